@@ -1,0 +1,22 @@
+//! # clino — the std layer of the clino inclinometer toolkit
+//!
+//! Everything that needs files, allocation or solvers, on top of
+//! [`clino_core`] (re-exported as [`core`]):
+//!
+//! * [`io`] — recordings in (CSV, columns found by header name) and results out;
+//! * [`error`] — one error type that names the file, line and column;
+//! * [`report`] — plots (SVG/PNG);
+//! * [`sim`] — truth trajectories and simulated sensors.
+//!
+//! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
+//! frame, Hamilton scalar-first quaternions rotating body to navigation,
+//! accelerometers reading specific force.
+#![deny(missing_docs)]
+
+pub use clino_core as core;
+
+pub mod error;
+pub mod report;
+pub mod sim;
+
+pub use error::{Error, ErrorKind, Result};
