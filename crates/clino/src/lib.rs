@@ -4,6 +4,9 @@
 //! [`clino_core`] (re-exported as [`core`]):
 //!
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
+//! * [`fusion`] — the fusion stage: filter registry, streaming CSV → CSV run;
+//! * [`eval`] — scoring attitude estimates against a reference (BROAD's inclination error);
+//! * [`demo`] — the built-in demonstration (embedded data, no files);
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
 //! * [`sim`] — truth trajectories and simulated sensors.
@@ -15,7 +18,11 @@
 
 pub use clino_core as core;
 
+pub mod demo;
 pub mod error;
+pub mod eval;
+pub mod fusion;
+pub mod io;
 pub mod report;
 pub mod sim;
 

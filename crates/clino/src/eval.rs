@@ -1,0 +1,345 @@
+//! Scoring attitude estimates against a reference orientation, as the BROAD
+//! benchmark scores them.
+//!
+//! Source: D. Laidig, M. Caruso, A. Cereatti, T. Seel, "BROAD — A Benchmark
+//! for Robust Inertial Orientation Estimation", Data 6(7), 2021 (section on
+//! error metrics). The error quaternion is taken in the navigation frame,
+//! q_err = q_est ⊗ q_ref*, and split into a rotation about the vertical
+//! (heading) and a rotation about a horizontal axis (inclination); the
+//! inclination error is the angle of the latter, 2·acos(√(w² + z²)) of q_err.
+//! It does not depend on the heading, so filters without a magnetometer are
+//! scored fairly. A recording's score is the RMSE of that error, in degrees,
+//! over the samples with `movement` = 1 and a finite reference.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use clino_core::Attitude;
+use serde::Serialize;
+
+use crate::fusion::{FilterConfig, Fuser};
+use crate::io::{ImuCsvReader, ReadOptions};
+use crate::{Error, ErrorKind, Result};
+
+/// Inclination error between an estimate and a reference, rad, in [0, π].
+///
+/// q_err = q_est ⊗ q_ref* (navigation frame; both rotate body → ENU), and
+/// e = 2·acos(√(w² + z²)) of q_err (BROAD, Laidig et al. 2021). Equal to the
+/// angle between the two attitudes' vertical axes; a pure heading difference
+/// gives 0.
+///
+/// ```
+/// use clino::eval::inclination_error;
+/// use clino::core::Attitude;
+/// use nalgebra::Vector3;
+/// let r = Attitude::from_euler_angles(0.2, -0.1, 1.0);
+/// let tilted = Attitude::from_axis_angle(&Vector3::x_axis(), 0.05) * r;
+/// assert!((inclination_error(&tilted, &r) - 0.05).abs() < 1e-12);
+/// let turned = Attitude::from_axis_angle(&Vector3::z_axis(), 2.0) * r;
+/// assert!(inclination_error(&turned, &r) < 1e-7);
+/// ```
+pub fn inclination_error(q_est: &Attitude, q_ref: &Attitude) -> f64 {
+    let e = q_est.quaternion() * q_ref.quaternion().conjugate();
+    let c = (e.w * e.w + e.k * e.k).sqrt().min(1.0);
+    2.0 * c.acos()
+}
+
+/// Root-mean-square accumulator of angles.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Rms {
+    sum_sq: f64,
+    n: u64,
+}
+
+impl Rms {
+    /// Add one value.
+    #[inline]
+    pub fn push(&mut self, x: f64) {
+        self.sum_sq += x * x;
+        self.n += 1;
+    }
+    /// Number of values.
+    pub fn count(&self) -> u64 {
+        self.n
+    }
+    /// √(Σx²/n); NaN when empty.
+    pub fn value(&self) -> f64 {
+        if self.n == 0 { f64::NAN } else { (self.sum_sq / self.n as f64).sqrt() }
+    }
+}
+
+/// One filter's score on one recording.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FilterScore {
+    /// Filter name.
+    pub filter: String,
+    /// Inclination RMSE, degrees (NaN → `null` when no sample was scored).
+    pub rmse_deg: f64,
+    /// Samples scored (movement = 1 and finite reference).
+    pub scored: u64,
+    /// Rows the filter held through (NaN gyro or accelerometer).
+    pub dropouts: u64,
+}
+
+/// Scores of every filter on one recording.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RecordingScore {
+    /// The recording.
+    pub file: PathBuf,
+    /// Data rows read.
+    pub rows: u64,
+    /// One score per filter, in the order asked.
+    pub scores: Vec<FilterScore>,
+}
+
+/// Scores of several filters on several recordings, with the mean per filter.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EvalTable {
+    /// Filter names (columns).
+    pub filters: Vec<String>,
+    /// One entry per recording (rows).
+    pub recordings: Vec<RecordingScore>,
+    /// Mean over recordings of the per-recording RMSE, degrees, per filter
+    /// (as BROAD averages trials); recordings with nothing scored are left out.
+    pub mean_rmse_deg: Vec<f64>,
+}
+
+/// Score filters on one recording, in one pass over it (every filter sees
+/// every row). The recording needs `ref_q{w,x,y,z}` and `movement` columns.
+pub fn score_reader<R: Read>(reader: &mut ImuCsvReader<R>, configs: &[FilterConfig]) -> Result<RecordingScore> {
+    for (ok, col) in [(reader.has_reference(), "ref_qw"), (reader.has_movement(), "movement")] {
+        if !ok {
+            return Err(Error::new(
+                ErrorKind::MissingColumn,
+                format!("scoring needs a reference attitude (ref_qw, ref_qx, ref_qy, ref_qz) and a movement column; '{col}' is missing"),
+            )
+            .in_file(reader.file())
+            .at_column(col));
+        }
+    }
+    let mut fusers = configs.iter().map(Fuser::new).collect::<Result<Vec<_>>>()?;
+    let mut rms = vec![Rms::default(); configs.len()];
+    while let Some(row) = reader.next_row()? {
+        let scored = row.movement == Some(true);
+        for (f, acc) in fusers.iter_mut().zip(rms.iter_mut()) {
+            f.step(&row);
+            if scored && let Some(r) = row.ref_q {
+                // Before initialisation the estimate is the identity (level, heading 0).
+                let q = f.attitude().unwrap_or_else(Attitude::identity);
+                acc.push(inclination_error(&q, &r));
+            }
+        }
+    }
+    Ok(RecordingScore {
+        file: reader.file().to_path_buf(),
+        rows: reader.rows_read(),
+        scores: fusers
+            .iter()
+            .zip(&rms)
+            .map(|(f, r)| FilterScore {
+                filter: f.filter().name().to_string(),
+                rmse_deg: r.value().to_degrees(),
+                scored: r.count(),
+                dropouts: f.report().dropouts,
+            })
+            .collect(),
+    })
+}
+
+/// The recordings named by `paths`: files as given, directories replaced by
+/// the `*.csv` files inside them (not recursive), sorted by name.
+pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut inside = Vec::new();
+            for entry in std::fs::read_dir(p).map_err(|e| Error::from(e).in_file(p))? {
+                let path = entry.map_err(|e| Error::from(e).in_file(p))?.path();
+                if path.is_file() && path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) {
+                    inside.push(path);
+                }
+            }
+            if inside.is_empty() {
+                return Err(Error::new(ErrorKind::Empty, "directory holds no .csv file").in_file(p));
+            }
+            inside.sort();
+            out.extend(inside);
+        } else if p.exists() {
+            out.push(p.clone());
+        } else {
+            return Err(Error::new(ErrorKind::Io, "no such file or directory").in_file(p));
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::new(ErrorKind::Empty, "no recording given"));
+    }
+    Ok(out)
+}
+
+/// Score filters on recordings (files, or directories of `*.csv`), calling
+/// `progress(i, n, path)` before each one.
+pub fn evaluate(
+    paths: &[PathBuf],
+    configs: &[FilterConfig],
+    opts: &ReadOptions,
+    mut progress: impl FnMut(usize, usize, &Path),
+) -> Result<EvalTable> {
+    let files = expand_paths(paths)?;
+    let mut recordings = Vec::with_capacity(files.len());
+    for (i, f) in files.iter().enumerate() {
+        progress(i, files.len(), f);
+        let mut r = ImuCsvReader::from_path(f, opts)?;
+        recordings.push(score_reader(&mut r, configs)?);
+    }
+    Ok(EvalTable::new(configs, recordings))
+}
+
+impl EvalTable {
+    /// Assemble the table and its means.
+    pub fn new(configs: &[FilterConfig], recordings: Vec<RecordingScore>) -> Self {
+        let filters: Vec<String> = configs.iter().map(|c| c.kind.name().to_string()).collect();
+        let mean_rmse_deg = (0..filters.len())
+            .map(|j| {
+                let v: Vec<f64> = recordings
+                    .iter()
+                    .map(|r| r.scores[j].rmse_deg)
+                    .filter(|x| x.is_finite())
+                    .collect();
+                if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+            })
+            .collect();
+        Self {
+            filters,
+            recordings,
+            mean_rmse_deg,
+        }
+    }
+
+    /// A fixed-width text table: one line per recording, one column per
+    /// filter, inclination RMSE in degrees, and the mean.
+    pub fn to_text(&self) -> String {
+        let names: Vec<String> = self
+            .recordings
+            .iter()
+            .map(|r| {
+                r.file
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| r.file.display().to_string())
+            })
+            .collect();
+        let w0 = names.iter().map(|n| n.len()).chain([9]).max().unwrap_or(9);
+        let widths: Vec<usize> = self.filters.iter().map(|f| f.len().max(7)).collect();
+        let mut s = format!("{:<w0$}", "recording");
+        for (f, w) in self.filters.iter().zip(&widths) {
+            s.push_str(&format!("  {f:>w$}"));
+        }
+        s.push('\n');
+        let cell = |x: f64, w: usize| if x.is_finite() { format!("  {x:>w$.3}") } else { format!("  {:>w$}", "n/a") };
+        for (n, r) in names.iter().zip(&self.recordings) {
+            s.push_str(&format!("{n:<w0$}"));
+            for (sc, w) in r.scores.iter().zip(&widths) {
+                s.push_str(&cell(sc.rmse_deg, *w));
+            }
+            s.push('\n');
+        }
+        s.push_str(&format!("{:<w0$}", "mean"));
+        for (m, w) in self.mean_rmse_deg.iter().zip(&widths) {
+            s.push_str(&cell(*m, *w));
+        }
+        s.push('\n');
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fusion::FilterKind;
+    use clino_core::tilt::up_in_body;
+    use nalgebra::{Unit, Vector3};
+    use proptest::prelude::*;
+
+    #[test]
+    fn known_tilt_error_gives_that_angle_about_any_horizontal_axis() {
+        let r = Attitude::from_euler_angles(0.4, 0.3, -2.0);
+        for (ax, ang) in [(Vector3::x(), 0.1), (Vector3::y(), 0.7), (Vector3::new(1.0, 1.0, 0.0), 1.3)] {
+            let e = Attitude::from_axis_angle(&Unit::new_normalize(ax), ang);
+            assert!((inclination_error(&(e * r), &r) - ang).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn pure_heading_error_gives_zero_and_sign_of_quaternion_does_not_matter() {
+        let r = Attitude::from_euler_angles(-0.5, 0.2, 0.3);
+        let yaw = Attitude::from_axis_angle(&Vector3::z_axis(), 3.0);
+        assert!(inclination_error(&(yaw * r), &r) < 1e-7);
+        let neg = Attitude::new_unchecked(-*(yaw * r).quaternion());
+        assert!(inclination_error(&neg, &r) < 1e-7);
+        // A tilt then a heading change: only the tilt counts.
+        let tilt = Attitude::from_axis_angle(&Vector3::y_axis(), 0.25);
+        assert!((inclination_error(&(yaw * tilt * r), &r) - 0.25).abs() < 1e-12);
+    }
+
+    proptest! {
+        #[test]
+        fn equals_angle_between_vertical_axes(
+            a in -3.0f64..3.0, b in -1.5f64..1.5, c in -3.0f64..3.0,
+            d in -3.0f64..3.0, e in -1.5f64..1.5, f in -3.0f64..3.0,
+        ) {
+            let q1 = Attitude::from_euler_angles(a, b, c);
+            let q2 = Attitude::from_euler_angles(d, e, f);
+            let u1 = up_in_body(&q1);
+            let u2 = up_in_body(&q2);
+            let angle = u1.cross(&u2).norm().atan2(u1.dot(&u2));
+            prop_assert!((inclination_error(&q1, &q2) - angle).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn rms_of_known_values() {
+        let mut r = Rms::default();
+        assert!(r.value().is_nan());
+        for x in [3.0, 4.0] {
+            r.push(x);
+        }
+        assert!((r.value() - 12.5f64.sqrt()).abs() < 1e-15);
+        assert_eq!(r.count(), 2);
+    }
+
+    const HEAD: &str = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,ref_qw,ref_qx,ref_qy,ref_qz,movement\n";
+
+    #[test]
+    fn scores_only_moving_rows_with_finite_reference() {
+        // Sensor level at rest; reference says tilted by 2° about x on the
+        // scored rows, 30° on an unscored row, NaN on another scored row.
+        let (s, c) = (1f64.to_radians().sin(), 1f64.to_radians().cos());
+        let (s30, c30) = (15f64.to_radians().sin(), 15f64.to_radians().cos());
+        let mut text = String::from(HEAD);
+        for i in 0..10 {
+            let t = i as f64 * 0.01;
+            let line = match i {
+                3 => format!("{t},0,0,0,0,0,9.81,{c30},{s30},0,0,0\n"),
+                5 => format!("{t},0,0,0,0,0,9.81,nan,nan,nan,nan,1\n"),
+                _ => format!("{t},0,0,0,0,0,9.81,{c},{s},0,0,1\n"),
+            };
+            text.push_str(&line);
+        }
+        let mut r = ImuCsvReader::new(text.as_bytes(), "m.csv", &ReadOptions::default()).unwrap();
+        let cfg: Vec<FilterConfig> = FilterKind::ALL.iter().map(|k| FilterConfig::new(*k)).collect();
+        let rec = score_reader(&mut r, &cfg).unwrap();
+        for sc in &rec.scores {
+            assert_eq!(sc.scored, 8, "{}", sc.filter);
+            assert!((sc.rmse_deg - 2.0).abs() < 1e-9, "{}: {}", sc.filter, sc.rmse_deg);
+        }
+    }
+
+    #[test]
+    fn scoring_needs_reference_and_movement() {
+        let text = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,0,9.8\n";
+        let mut r = ImuCsvReader::new(text.as_bytes(), "m.csv", &ReadOptions::default()).unwrap();
+        let e = score_reader(&mut r, &[FilterConfig::new(FilterKind::Mahony)]).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::MissingColumn);
+        assert_eq!(e.column.as_deref(), Some("ref_qw"));
+    }
+}

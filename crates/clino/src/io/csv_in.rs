@@ -1,0 +1,600 @@
+//! Streaming reader of IMU recordings in CSV.
+
+use std::fs::File;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use clino_core::{Attitude, G0, ImuSample, Vec3};
+use nalgebra::Quaternion;
+
+use crate::{Error, ErrorKind, Result};
+
+/// Unit of the gyroscope columns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GyroUnit {
+    /// rad/s (columns `gyr_{x,y,z}_rad_s` or bare `gyr_{x,y,z}`).
+    #[default]
+    RadPerS,
+    /// deg/s (columns `gyr_{x,y,z}_deg_s` or bare `gyr_{x,y,z}`), converted to rad/s on reading.
+    DegPerS,
+}
+
+impl GyroUnit {
+    /// Factor from this unit to rad/s.
+    pub fn to_rad_s(self) -> f64 {
+        match self {
+            GyroUnit::RadPerS => 1.0,
+            GyroUnit::DegPerS => core::f64::consts::PI / 180.0,
+        }
+    }
+    fn suffix(self) -> &'static str {
+        match self {
+            GyroUnit::RadPerS => "rad_s",
+            GyroUnit::DegPerS => "deg_s",
+        }
+    }
+}
+
+impl FromStr for GyroUnit {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "rad/s" | "rad_s" => Ok(GyroUnit::RadPerS),
+            "deg/s" | "deg_s" | "dps" => Ok(GyroUnit::DegPerS),
+            other => Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("unknown gyro unit '{other}' (expected rad/s or deg/s)"),
+            )),
+        }
+    }
+}
+
+/// Unit of the accelerometer columns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AccelUnit {
+    /// m/s² (columns `acc_{x,y,z}_m_s2` or bare `acc_{x,y,z}`).
+    #[default]
+    MPerS2,
+    /// Multiples of g (columns `acc_{x,y,z}_g` or bare `acc_{x,y,z}`), converted
+    /// to m/s² with [`ReadOptions::g`].
+    G,
+}
+
+impl AccelUnit {
+    fn suffix(self) -> &'static str {
+        match self {
+            AccelUnit::MPerS2 => "m_s2",
+            AccelUnit::G => "g",
+        }
+    }
+}
+
+impl FromStr for AccelUnit {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "m/s2" | "m/s^2" | "m/s²" | "m_s2" => Ok(AccelUnit::MPerS2),
+            "g" => Ok(AccelUnit::G),
+            other => Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("unknown accelerometer unit '{other}' (expected m/s2 or g)"),
+            )),
+        }
+    }
+}
+
+/// How to read a recording.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// Unit of the gyroscope columns.
+    pub gyro_unit: GyroUnit,
+    /// Unit of the accelerometer columns.
+    pub accel_unit: AccelUnit,
+    /// Sample rate, Hz, used only when the file has no `t_s` column
+    /// (time of row k is then k / rate).
+    pub rate_hz: Option<f64>,
+    /// Gravity used to convert [`AccelUnit::G`] to m/s² (default [`G0`]).
+    pub g: f64,
+}
+
+impl Default for ReadOptions {
+    fn default() -> Self {
+        Self {
+            gyro_unit: GyroUnit::RadPerS,
+            accel_unit: AccelUnit::MPerS2,
+            rate_hz: None,
+            g: G0,
+        }
+    }
+}
+
+/// One row of a recording: the IMU sample and, when the file has them, the
+/// reference attitude and the benchmark's movement flag.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImuRow {
+    /// 1-based line of this row in the file (comment lines counted).
+    pub line: u64,
+    /// The sample, SI units. Gyro or accelerometer components may be NaN
+    /// (sensor dropouts are passed on, see [`ImuRow::has_dropout`]).
+    pub sample: ImuSample,
+    /// Reference attitude (body → ENU), when the file has `ref_q{w,x,y,z}` and
+    /// all four are finite on this row (normalised on reading).
+    pub ref_q: Option<Attitude>,
+    /// The `movement` flag (non-zero → true), when the file has that column
+    /// and the cell is finite.
+    pub movement: Option<bool>,
+}
+
+impl ImuRow {
+    /// True when a gyro or accelerometer value is not finite (a dropout).
+    pub fn has_dropout(&self) -> bool {
+        let s = &self.sample;
+        !(s.gyr_rad_s.iter().all(|v| v.is_finite()) && s.acc_m_s2.iter().all(|v| v.is_finite()))
+    }
+}
+
+/// Column indices found in the header.
+#[derive(Clone, Debug)]
+struct Columns {
+    t: Option<usize>,
+    gyr: [usize; 3],
+    acc: [usize; 3],
+    mag: Option<[usize; 3]>,
+    temp: Option<usize>,
+    ref_q: Option<[usize; 4]>,
+    movement: Option<usize>,
+}
+
+/// Wraps the byte source to know where it ends (for exact line numbers of a
+/// last row without a trailing newline).
+struct Tracked<R> {
+    inner: R,
+    total: u64,
+    last: u8,
+    eof: bool,
+}
+
+impl<R: Read> Read for Tracked<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        if n == 0 {
+            if !buf.is_empty() {
+                self.eof = true;
+            }
+        } else {
+            self.total += n as u64;
+            self.last = buf[n - 1];
+        }
+        Ok(n)
+    }
+}
+
+/// Streaming reader of an IMU recording in CSV (BROAD layout).
+///
+/// * Lines starting with `#` are comments; blank lines are skipped.
+/// * The first other line is the header; columns are found by name:
+///   `t_s`, `gyr_{x,y,z}_rad_s` (or `_deg_s`, see [`GyroUnit`]),
+///   `acc_{x,y,z}_m_s2` (or `_g`, see [`AccelUnit`]), and optionally
+///   `mag_{x,y,z}_uT`, `temp_c`, `ref_q{w,x,y,z}`, `movement`.
+///   Names are matched without regard to case; other columns are ignored.
+/// * Each row is parsed from one reused [`csv::ByteRecord`]: no allocation per
+///   row, memory flat in the length of the file.
+/// * Errors name the file, the 1-based line (comment lines counted) and the
+///   column: missing columns, non-numeric cells, a row with the wrong number of
+///   fields, time not strictly increasing, no data rows.
+/// * Empty cells and `nan` in sensor columns are read as NaN and passed on:
+///   sensor dropouts are the caller's to handle ([`ImuRow::has_dropout`]).
+///
+/// ```
+/// use clino::io::{ImuCsvReader, ReadOptions};
+/// let text = "# a comment\nt_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n\
+///             0.00,0,0,0.1,0,0,9.81\n0.01,0,0,0.1,0,0,9.81\n";
+/// let mut r = ImuCsvReader::new(text.as_bytes(), "inline.csv", &ReadOptions::default()).unwrap();
+/// let row = r.next_row().unwrap().unwrap();
+/// assert_eq!(row.line, 3);
+/// assert_eq!(row.sample.gyr_rad_s.z, 0.1);
+/// assert!(r.next_row().unwrap().is_some());
+/// assert!(r.next_row().unwrap().is_none());
+/// ```
+pub struct ImuCsvReader<R: Read> {
+    rdr: csv::Reader<Tracked<R>>,
+    rec: csv::ByteRecord,
+    file: PathBuf,
+    header: Vec<String>,
+    cols: Columns,
+    gyr_scale: f64,
+    acc_scale: f64,
+    dt_rate: Option<f64>,
+    rows: u64,
+    last_t: Option<f64>,
+    line: u64,
+    header_line: u64,
+    done: bool,
+}
+
+impl ImuCsvReader<File> {
+    /// Open a file.
+    pub fn from_path(path: impl AsRef<Path>, opts: &ReadOptions) -> Result<Self> {
+        let path = path.as_ref();
+        let f = File::open(path).map_err(|e| Error::from(e).in_file(path))?;
+        Self::new(f, path, opts)
+    }
+}
+
+fn parse_f64(cell: &[u8]) -> Option<f64> {
+    let cell = cell.trim_ascii();
+    if cell.is_empty() {
+        return Some(f64::NAN);
+    }
+    std::str::from_utf8(cell).ok()?.parse::<f64>().ok()
+}
+
+impl<R: Read> ImuCsvReader<R> {
+    /// Read the header from `source`; `name` is the file name used in errors.
+    pub fn new(source: R, name: impl Into<PathBuf>, opts: &ReadOptions) -> Result<Self> {
+        let file = name.into();
+        let rdr = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .comment(Some(b'#'))
+            .terminator(csv::Terminator::Any(b'\n'))
+            .buffer_capacity(1 << 16)
+            .from_reader(Tracked {
+                inner: source,
+                total: 0,
+                last: 0,
+                eof: false,
+            });
+        if let Some(rate) = opts.rate_hz
+            && !(rate.is_finite() && rate > 0.0)
+        {
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("sample rate must be a positive number of Hz, got {rate}"),
+            )
+            .in_file(&file));
+        }
+        if !(opts.g.is_finite() && opts.g > 0.0) {
+            return Err(Error::new(ErrorKind::InvalidInput, "gravity must be positive").in_file(&file));
+        }
+        let mut me = Self {
+            rdr,
+            rec: csv::ByteRecord::with_capacity(256, 32),
+            file,
+            header: Vec::new(),
+            cols: Columns {
+                t: None,
+                gyr: [0; 3],
+                acc: [0; 3],
+                mag: None,
+                temp: None,
+                ref_q: None,
+                movement: None,
+            },
+            gyr_scale: opts.gyro_unit.to_rad_s(),
+            acc_scale: match opts.accel_unit {
+                AccelUnit::MPerS2 => 1.0,
+                AccelUnit::G => opts.g,
+            },
+            dt_rate: opts.rate_hz.map(|r| 1.0 / r),
+            rows: 0,
+            last_t: None,
+            line: 0,
+            header_line: 0,
+            done: false,
+        };
+        if !me.read_record()? {
+            return Err(me
+                .err(ErrorKind::Empty, "the file is empty: no header line (nor data)")
+                .at_line(me.line.max(1)));
+        }
+        me.header = me
+            .rec
+            .iter()
+            .map(|f| {
+                let s = String::from_utf8_lossy(f.trim_ascii());
+                s.trim_matches('"').to_string()
+            })
+            .collect();
+        let header_line = me.line;
+        me.header_line = header_line;
+        me.cols = me.find_columns(opts).map_err(|e| e.at_line(header_line))?;
+        Ok(me)
+    }
+
+    /// The header names, in file order.
+    pub fn header(&self) -> &[String] {
+        &self.header
+    }
+
+    /// The file name used in errors.
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
+    /// Number of data rows returned so far.
+    pub fn rows_read(&self) -> u64 {
+        self.rows
+    }
+
+    /// True when the file has a reference attitude (`ref_q{w,x,y,z}`).
+    pub fn has_reference(&self) -> bool {
+        self.cols.ref_q.is_some()
+    }
+
+    /// True when the file has a `movement` column.
+    pub fn has_movement(&self) -> bool {
+        self.cols.movement.is_some()
+    }
+
+    /// Header name of the first non-finite gyro or accelerometer cell of `row`.
+    pub fn dropout_column(&self, row: &ImuRow) -> Option<&str> {
+        let s = &row.sample;
+        (0..3)
+            .find(|&k| !s.gyr_rad_s[k].is_finite())
+            .map(|k| self.cols.gyr[k])
+            .or_else(|| (0..3).find(|&k| !s.acc_m_s2[k].is_finite()).map(|k| self.cols.acc[k]))
+            .map(|i| self.header[i].as_str())
+    }
+
+    fn err(&self, kind: ErrorKind, msg: impl Into<String>) -> Error {
+        Error::new(kind, msg).in_file(&self.file)
+    }
+
+    /// Read the next non-blank record into `self.rec`, setting `self.line`.
+    fn read_record(&mut self) -> Result<bool> {
+        loop {
+            let more = self.rdr.read_byte_record(&mut self.rec).map_err(|e| {
+                let line = e.position().map(|p| p.line()).unwrap_or(self.line + 1);
+                let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) { ErrorKind::Io } else { ErrorKind::Parse };
+                self.err(kind, e.to_string()).at_line(line)
+            })?;
+            let end = self.rdr.position();
+            if !more {
+                self.line = end.line();
+                return Ok(false);
+            }
+            // csv counts every '\n' it consumed; the record's own terminator is
+            // one of them unless the record ends the file without a newline.
+            let src = self.rdr.get_ref();
+            let unterminated = src.eof && end.byte() == src.total && src.last != b'\n';
+            self.line = end.line() - u64::from(!unterminated);
+            let blank = self.rec.iter().all(|f| f.trim_ascii().is_empty());
+            if !blank {
+                return Ok(true);
+            }
+        }
+    }
+
+    fn find(&self, names: &[&str]) -> Option<usize> {
+        names
+            .iter()
+            .find_map(|n| self.header.iter().position(|h| h.eq_ignore_ascii_case(n)))
+    }
+
+    fn find_columns(&self, opts: &ReadOptions) -> Result<Columns> {
+        let missing = |want: &str, hint: String| {
+            let mut msg = format!("missing column '{want}'");
+            if !hint.is_empty() {
+                msg.push_str(&format!(" ({hint})"));
+            }
+            msg.push_str(&format!("; header has: {}", self.header.join(",")));
+            self.err(ErrorKind::MissingColumn, msg).at_column(want)
+        };
+        let t = self.find(&["t_s"]);
+        if t.is_none() && self.dt_rate.is_none() {
+            return Err(missing(
+                "t_s",
+                "no time column: give the sample rate (--rate HZ)".to_string(),
+            ));
+        }
+        let mut gyr = [0; 3];
+        let mut acc = [0; 3];
+        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+            let want = format!("gyr_{axis}_{}", opts.gyro_unit.suffix());
+            let bare = format!("gyr_{axis}");
+            gyr[k] = match self.find(&[&want, &bare]) {
+                Some(i) => i,
+                None => {
+                    let other = match opts.gyro_unit {
+                        GyroUnit::RadPerS => GyroUnit::DegPerS,
+                        GyroUnit::DegPerS => GyroUnit::RadPerS,
+                    };
+                    let alt = format!("gyr_{axis}_{}", other.suffix());
+                    let hint = if self.find(&[&alt]).is_some() {
+                        format!("the file has '{alt}': set the gyro unit to match it")
+                    } else {
+                        format!("or '{bare}'")
+                    };
+                    return Err(missing(&want, hint));
+                }
+            };
+            let want = format!("acc_{axis}_{}", opts.accel_unit.suffix());
+            let bare = format!("acc_{axis}");
+            acc[k] = match self.find(&[&want, &bare]) {
+                Some(i) => i,
+                None => {
+                    let other = match opts.accel_unit {
+                        AccelUnit::MPerS2 => AccelUnit::G,
+                        AccelUnit::G => AccelUnit::MPerS2,
+                    };
+                    let alt = format!("acc_{axis}_{}", other.suffix());
+                    let hint = if self.find(&[&alt]).is_some() {
+                        format!("the file has '{alt}': set the accelerometer unit to match it")
+                    } else {
+                        format!("or '{bare}'")
+                    };
+                    return Err(missing(&want, hint));
+                }
+            };
+        }
+        let mag = match (self.find(&["mag_x_uT"]), self.find(&["mag_y_uT"]), self.find(&["mag_z_uT"])) {
+            (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+            _ => None,
+        };
+        let ref_names = ["ref_qw", "ref_qx", "ref_qy", "ref_qz"];
+        let found: Vec<Option<usize>> = ref_names.iter().map(|n| self.find(&[n])).collect();
+        let ref_q = if found.iter().all(|f| f.is_some()) {
+            Some([found[0].unwrap(), found[1].unwrap(), found[2].unwrap(), found[3].unwrap()])
+        } else if let Some(k) = found.iter().position(|f| f.is_some()) {
+            let miss = ref_names[found.iter().position(|f| f.is_none()).unwrap()];
+            return Err(missing(miss, format!("the file has '{}' but not all four reference components", ref_names[k])));
+        } else {
+            None
+        };
+        Ok(Columns {
+            t,
+            gyr,
+            acc,
+            mag,
+            temp: self.find(&["temp_c"]),
+            ref_q,
+            movement: self.find(&["movement"]),
+        })
+    }
+
+    fn cell(&self, i: usize) -> Result<f64> {
+        let name = || self.header[i].clone();
+        let Some(raw) = self.rec.get(i) else {
+            return Err(self
+                .err(
+                    ErrorKind::Parse,
+                    format!(
+                        "row has {} fields but the header has {}",
+                        self.rec.len(),
+                        self.header.len()
+                    ),
+                )
+                .at_line(self.line)
+                .at_column(name()));
+        };
+        parse_f64(raw).ok_or_else(|| {
+            self.err(
+                ErrorKind::Parse,
+                format!("not a number: '{}'", String::from_utf8_lossy(raw.trim_ascii())),
+            )
+            .at_line(self.line)
+            .at_column(name())
+        })
+    }
+
+    fn vec3(&self, idx: [usize; 3], scale: f64) -> Result<Vec3> {
+        Ok(Vec3::new(self.cell(idx[0])?, self.cell(idx[1])?, self.cell(idx[2])?) * scale)
+    }
+
+    /// The next data row, `Ok(None)` at the end of the file.
+    ///
+    /// A file with a header but no data row is an error ([`ErrorKind::Empty`]),
+    /// reported by the first call.
+    pub fn next_row(&mut self) -> Result<Option<ImuRow>> {
+        if self.done {
+            return Ok(None);
+        }
+        if !self.read_record()? {
+            self.done = true;
+            if self.rows == 0 {
+                return Err(self
+                    .err(ErrorKind::Empty, "the file has a header but no data rows")
+                    .at_line(self.header_line));
+            }
+            return Ok(None);
+        }
+        if self.rec.len() != self.header.len() {
+            let col = self.header.get(self.rec.len()).or(self.header.last()).cloned().unwrap_or_default();
+            return Err(self
+                .err(
+                    ErrorKind::Parse,
+                    format!(
+                        "row has {} fields but the header has {}",
+                        self.rec.len(),
+                        self.header.len()
+                    ),
+                )
+                .at_line(self.line)
+                .at_column(col));
+        }
+        let t_s = match self.cols.t {
+            Some(i) => {
+                let t = self.cell(i)?;
+                if !t.is_finite() {
+                    return Err(self
+                        .err(ErrorKind::InvalidInput, format!("time stamp is not a finite number ({t})"))
+                        .at_line(self.line)
+                        .at_column(self.header[i].clone()));
+                }
+                if let Some(prev) = self.last_t
+                    && t <= prev
+                {
+                    let what = if t == prev { "repeats" } else { "goes backwards" };
+                    return Err(self
+                        .err(
+                            ErrorKind::TimeNotIncreasing,
+                            format!("time {what}: {t} s after {prev} s"),
+                        )
+                        .at_line(self.line)
+                        .at_column(self.header[i].clone()));
+                }
+                t
+            }
+            None => self.rows as f64 * self.dt_rate.unwrap_or(f64::NAN),
+        };
+        let gyr = self.vec3(self.cols.gyr, self.gyr_scale)?;
+        let acc = self.vec3(self.cols.acc, self.acc_scale)?;
+        let mag_ut = match self.cols.mag {
+            Some(m) => Some(self.vec3(m, 1.0)?),
+            None => None,
+        };
+        let temp_c = match self.cols.temp {
+            Some(i) => Some(self.cell(i)?),
+            None => None,
+        };
+        let ref_q = match self.cols.ref_q {
+            Some([w, x, y, z]) => {
+                let q = Quaternion::new(self.cell(w)?, self.cell(x)?, self.cell(y)?, self.cell(z)?);
+                let n = q.norm();
+                if n.is_finite() && n > 0.0 {
+                    Some(Attitude::new_unchecked(q / n))
+                } else {
+                    None
+                }
+            }
+            None => None,
+        };
+        let movement = match self.cols.movement {
+            Some(i) => {
+                let m = self.cell(i)?;
+                if m.is_finite() { Some(m != 0.0) } else { None }
+            }
+            None => None,
+        };
+        self.last_t = Some(t_s);
+        self.rows += 1;
+        Ok(Some(ImuRow {
+            line: self.line,
+            sample: ImuSample {
+                t_s,
+                gyr_rad_s: gyr,
+                acc_m_s2: acc,
+                mag_ut,
+                temp_c,
+            },
+            ref_q,
+            movement,
+        }))
+    }
+}
+
+impl<R: Read> Iterator for ImuCsvReader<R> {
+    type Item = Result<ImuRow>;
+    fn next(&mut self) -> Option<Self::Item> {
+        match self.next_row() {
+            Ok(Some(r)) => Some(Ok(r)),
+            Ok(None) => None,
+            Err(e) => {
+                self.done = true;
+                Some(Err(e))
+            }
+        }
+    }
+}

@@ -1,0 +1,17 @@
+//! Recordings in and results out.
+//!
+//! * [`ImuCsvReader`] streams an IMU recording from CSV, one [`ImuRow`] at a
+//!   time, in constant memory;
+//! * [`CsvLineWriter`] writes numeric CSV rows without allocating per row.
+//!
+//! The CSV layout is that of the BROAD benchmark files shipped with the
+//! project (Laidig, Caruso, Cereatti, Seel, "BROAD — A Benchmark for Robust
+//! Inertial Orientation Estimation", Data 6(7), 2021): lines starting with
+//! `#` are comments, the first other line is the header, and columns are found
+//! by their header name, in any order.
+
+mod csv_in;
+mod csv_out;
+
+pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
+pub use csv_out::CsvLineWriter;
