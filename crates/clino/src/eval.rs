@@ -114,6 +114,7 @@ pub fn score_reader<R: Read>(reader: &mut ImuCsvReader<R>, configs: &[FilterConf
                 format!("scoring needs a reference attitude (ref_qw, ref_qx, ref_qy, ref_qz) and a movement column; '{col}' is missing"),
             )
             .in_file(reader.file())
+            .at_line(reader.header_line())
             .at_column(col));
         }
     }

@@ -186,24 +186,21 @@ impl FilterConfig {
                 ))
             }
         };
+        // Every gain is checked, whichever filter is built: a bad flag is bad input.
+        check("k", g.complementary_k, 1.0)?;
+        check("kp", g.mahony_kp, f64::MAX)?;
+        check("ki", g.mahony_ki, f64::MAX)?;
+        check("beta", g.madgwick_beta, f64::MAX)?;
         Ok(match self.kind {
             FilterKind::Poisson => Box::new(Poisson::new(g.integrator.unwrap_or_default())),
             FilterKind::Complementary => {
-                check("k", g.complementary_k, 1.0)?;
                 Box::new(Complementary::with_integrator(
                     g.complementary_k,
                     g.integrator.unwrap_or(Integrator::Rectangle),
                 ))
             }
-            FilterKind::Mahony => {
-                check("kp", g.mahony_kp, f64::MAX)?;
-                check("ki", g.mahony_ki, f64::MAX)?;
-                Box::new(Mahony::new(g.mahony_kp, g.mahony_ki))
-            }
-            FilterKind::Madgwick => {
-                check("beta", g.madgwick_beta, f64::MAX)?;
-                Box::new(Madgwick::new(g.madgwick_beta))
-            }
+            FilterKind::Mahony => Box::new(Mahony::new(g.mahony_kp, g.mahony_ki)),
+            FilterKind::Madgwick => Box::new(Madgwick::new(g.madgwick_beta)),
         })
     }
 }
@@ -241,6 +238,8 @@ impl RowStatus {
 pub struct FuseReport {
     /// Rows read (= rows written).
     pub rows: u64,
+    /// Rows that initialised the attitude (1, or 0 if none could).
+    pub initialised: u64,
     /// Rows fused (gyro + accelerometer).
     pub fused: u64,
     /// Rows used for the gyro only.
@@ -319,7 +318,7 @@ impl Fuser {
                 self.report.dropouts += 1;
                 self.report.first_dropout_line.get_or_insert(row.line);
             }
-            RowStatus::Initialised => {}
+            RowStatus::Initialised => self.report.initialised += 1,
         }
         if !matches!(status, RowStatus::Waiting | RowStatus::Dropout) {
             self.last_t = Some(t);

@@ -4,8 +4,9 @@
 #[derive(clap::Args)]
 pub struct Args {}
 
-/// Run the demo.
+/// Run the demo: print the library's demo text.
 pub fn run(_a: Args) -> anyhow::Result<()> {
-    println!("clino demo");
+    println!("clino demo — built-in data, no files, no hardware\n");
+    print!("{}", clino::demo::summary()?);
     Ok(())
 }

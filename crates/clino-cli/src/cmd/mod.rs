@@ -1,2 +1,73 @@
-//! One module per subcommand.
+//! One module per subcommand, and the argument groups they share.
 pub mod demo;
+pub mod eval;
+pub mod fuse;
+
+use clino::core::filter::Integrator;
+use clino::fusion::Gains;
+use clino::io::{AccelUnit, GyroUnit, ReadOptions};
+
+/// How to read a recording (shared by `fuse` and `eval`).
+#[derive(clap::Args, Debug)]
+pub struct ReadArgs {
+    /// Unit of the gyro columns: rad/s (columns gyr_x_rad_s…) or deg/s (gyr_x_deg_s…); bare gyr_x… take this unit.
+    #[arg(long, default_value = "rad/s", value_name = "rad/s|deg/s")]
+    pub gyro_unit: String,
+    /// Unit of the accelerometer columns: m/s2 (acc_x_m_s2…) or g (acc_x_g…); bare acc_x… take this unit.
+    #[arg(long, default_value = "m/s2", value_name = "m/s2|g")]
+    pub accel_unit: String,
+    /// Sample rate in Hz, for files without a t_s column (time of row k = k / rate).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+}
+
+impl ReadArgs {
+    /// The library's read options.
+    pub fn options(&self) -> clino::Result<ReadOptions> {
+        Ok(ReadOptions {
+            gyro_unit: self.gyro_unit.parse::<GyroUnit>()?,
+            accel_unit: self.accel_unit.parse::<AccelUnit>()?,
+            rate_hz: self.rate,
+            ..ReadOptions::default()
+        })
+    }
+}
+
+/// Filter gains (each filter reads its own).
+#[derive(clap::Args, Debug)]
+pub struct GainArgs {
+    /// Complementary filter blend per sample, 0..1 (time constant −Ts/ln(1−k)).
+    #[arg(long, default_value_t = Gains::default().complementary_k)]
+    pub k: f64,
+    /// Mahony proportional gain, rad/s per unit error.
+    #[arg(long, default_value_t = Gains::default().mahony_kp)]
+    pub kp: f64,
+    /// Mahony integral gain, rad/s² per unit error.
+    #[arg(long, default_value_t = Gains::default().mahony_ki)]
+    pub ki: f64,
+    /// Madgwick gradient step, rad/s.
+    #[arg(long, default_value_t = Gains::default().madgwick_beta)]
+    pub beta: f64,
+    /// Gyro integration step of poisson/complementary: exact (rotation vector) or rectangle (first order).
+    #[arg(long, value_name = "exact|rectangle")]
+    pub integrator: Option<String>,
+}
+
+impl GainArgs {
+    /// The library's gains.
+    pub fn gains(&self) -> anyhow::Result<Gains> {
+        let integrator = match self.integrator.as_deref().map(str::to_ascii_lowercase).as_deref() {
+            None => None,
+            Some("exact") => Some(Integrator::Exact),
+            Some("rectangle") => Some(Integrator::Rectangle),
+            Some(other) => anyhow::bail!("unknown integrator '{other}' (expected exact or rectangle)"),
+        };
+        Ok(Gains {
+            complementary_k: self.k,
+            mahony_kp: self.kp,
+            mahony_ki: self.ki,
+            madgwick_beta: self.beta,
+            integrator,
+        })
+    }
+}

@@ -308,6 +308,11 @@ impl<R: Read> ImuCsvReader<R> {
         &self.header
     }
 
+    /// 1-based line of the header.
+    pub fn header_line(&self) -> u64 {
+        self.header_line
+    }
+
     /// The file name used in errors.
     pub fn file(&self) -> &Path {
         &self.file

@@ -1,0 +1,167 @@
+//! The `clino` binary end to end: exit codes, messages, outputs.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const HEAD: &str = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n";
+
+fn clino(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_clino")).args(args).output().expect("run clino")
+}
+
+/// A fresh scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("clino-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn excerpt() -> &'static str {
+    include_str!("../../clino/data/broad_07_excerpt.csv")
+}
+
+#[test]
+fn demo_prints_every_filter() {
+    let o = clino(&["demo"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout.clone()).unwrap();
+    for f in ["poisson", "complementary", "mahony", "madgwick", "CC BY 4.0"] {
+        assert!(out.contains(f), "{out}");
+    }
+}
+
+#[test]
+fn fuse_writes_one_row_per_input_row_to_stdout_and_file() {
+    let d = scratch("fuse");
+    let input = write(&d, "in.csv", excerpt());
+    let o = clino(&["fuse", &input, "--filter", "madgwick", "--beta", "0.05"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout.clone()).unwrap();
+    let n_in = excerpt().lines().filter(|l| !l.starts_with('#')).count() - 1;
+    assert_eq!(out.lines().count(), n_in + 1);
+    assert!(out.starts_with("t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status\n"));
+    assert!(stderr(&o).contains("0 with NaN"), "{}", stderr(&o));
+    let outfile = d.join("out.csv");
+    let o = clino(&["fuse", &input, "-f", "complementary", "-o", outfile.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&outfile).unwrap().lines().count(), n_in + 1);
+}
+
+#[test]
+fn fuse_reports_nan_rows_and_strict_refuses_them() {
+    let d = scratch("nan");
+    let text = format!("# c\n{HEAD}0,0,0,0,0,0,9.8\n0.01,0,nan,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.03,0,0,0,NaN,0,9.8\n");
+    let input = write(&d, "nan.csv", &text);
+    let o = clino(&["fuse", &input, "-f", "mahony"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("2 with NaN"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("first at line 4"), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout.clone()).unwrap();
+    assert_eq!(out.lines().filter(|l| l.ends_with(",dropout")).count(), 2);
+    let o = clino(&["fuse", &input, "-f", "mahony", "--strict"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("nan.csv:4") && e.contains("gyr_y_rad_s"), "{e}");
+}
+
+/// Every bad input: non-zero exit, a message naming file, line and (where it
+/// applies) column, never a panic.
+#[test]
+fn bad_inputs_fail_cleanly_with_location() {
+    let d = scratch("bad");
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("missing.csv", "# c\nt_s,gyr_x_rad_s,gyr_y_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,9.8\n".into(), vec![":2:", "gyr_z_rad_s", "missing column"]),
+        ("text.csv", format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,zero,0,0,9.8\n"), vec![":3:", "gyr_z_rad_s", "not a number"]),
+        ("back.csv", format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.4,0,0,0,0,0,9.8\n"), vec![":3:", "t_s", "backwards"]),
+        ("repeat.csv", format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n"), vec![":3:", "t_s", "repeats"]),
+        ("empty.csv", String::new(), vec!["empty.csv:1:", "empty"]),
+        ("header.csv", format!("# c\n{HEAD}"), vec!["header.csv:2:", "no data rows"]),
+        ("short.csv", format!("{HEAD}0,0,0,0,0,0\n"), vec![":2:", "fields"]),
+    ];
+    for (name, text, wants) in cases {
+        let input = write(&d, name, &text);
+        for sub in [vec!["fuse", input.as_str()], vec!["eval", input.as_str()]] {
+            let o = clino(&sub);
+            let e = stderr(&o);
+            assert_eq!(o.status.code(), Some(1), "{name}: {e}");
+            assert!(!e.contains("panicked"), "{name}: {e}");
+            // (eval refuses these files already at their header: no reference columns)
+            if sub[0] == "fuse" {
+                for w in &wants {
+                    assert!(e.contains(w), "{name} ({}): want '{w}' in: {e}", sub[0]);
+                }
+            }
+            assert!(e.contains(name), "{name}: {e}");
+        }
+    }
+    // Bad options.
+    let good = write(&d, "good.csv", &format!("{HEAD}0,0,0,0,0,0,9.8\n"));
+    for args in [
+        vec!["fuse", good.as_str(), "--filter", "kalman"],
+        vec!["fuse", good.as_str(), "--gyro-unit", "rpm"],
+        vec!["fuse", good.as_str(), "--k", "2"],
+        vec!["fuse", good.as_str(), "--rate=-5"],
+        vec!["eval", good.as_str()],
+    ] {
+        let o = clino(&args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).starts_with("clino: error:"), "{args:?}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn eval_scores_a_directory_and_prints_json() {
+    let d = scratch("eval");
+    write(&d, "b.csv", excerpt());
+    write(&d, "a.csv", excerpt());
+    write(&d, "notes.txt", "not a recording");
+    let o = clino(&["eval", d.to_str().unwrap(), "--filter", "mahony,madgwick", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["filters"], serde_json::json!(["mahony", "madgwick"]));
+    let recs = v["recordings"].as_array().unwrap();
+    assert_eq!(recs.len(), 2);
+    assert!(recs[0]["file"].as_str().unwrap().ends_with("a.csv"));
+    let m = v["mean_rmse_deg"][0].as_f64().unwrap();
+    assert_eq!(recs[0]["scores"][0]["rmse_deg"].as_f64().unwrap(), m);
+    assert!(m > 0.0 && m < 10.0, "{m}");
+    let o = clino(&["eval", d.join("a.csv").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let table = String::from_utf8(o.stdout).unwrap();
+    assert!(table.contains("complementary") && table.contains("mean"), "{table}");
+}
+
+/// The twelve BROAD trials, when `shared/` sits beside the workspace.
+#[test]
+fn eval_over_the_broad_trials() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad");
+    if !dir.is_dir() {
+        eprintln!("SKIP eval_over_the_broad_trials: {} not found", dir.display());
+        return;
+    }
+    let o = clino(&["eval", dir.to_str().unwrap(), "--filter", "mahony,madgwick", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let recs = v["recordings"].as_array().unwrap();
+    assert_eq!(recs.len(), 12);
+    for r in recs {
+        for s in r["scores"].as_array().unwrap() {
+            assert!(s["scored"].as_u64().unwrap() > 10_000, "{r}");
+            assert!(s["rmse_deg"].as_f64().unwrap() < 30.0, "{r}");
+        }
+    }
+    // Madgwick at β = 0.1 averages about 2.9° over the twelve trials.
+    let madgwick = v["mean_rmse_deg"][1].as_f64().unwrap();
+    assert!(madgwick > 1.0 && madgwick < 5.0, "{madgwick}");
+}
