@@ -188,3 +188,19 @@ fn reads_the_embedded_broad_excerpt() {
     let dt = rows[1].sample.t_s - rows[0].sample.t_s;
     assert!((dt - 0.0035).abs() < 1e-9);
 }
+
+#[test]
+fn imu_only_skips_the_other_columns() {
+    let text = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT,ref_qw,ref_qx,ref_qy,ref_qz,movement\n\
+                0,0,0,0,0,0,9.8,1,2,3,1,0,0,0,junk\n";
+    let opts = ReadOptions {
+        imu_only: true,
+        ..ReadOptions::default()
+    };
+    let r = read_all(text, &opts).unwrap()[0];
+    assert_eq!((r.ref_q, r.movement, r.sample.mag_ut), (None, None, None));
+    assert_eq!(r.sample.acc_m_s2.z, 9.8);
+    // Without the option the junk cell is an error.
+    let e = read_all(text, &ReadOptions::default()).unwrap_err();
+    assert_at(&e, ErrorKind::Parse, 2, Some("movement"));
+}

@@ -30,7 +30,11 @@ pub struct Args {
 
 /// Run `clino fuse`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let opts = a.read.options()?;
+    // fuse uses time, gyro and accelerometer only: skip parsing the rest.
+    let opts = clino::io::ReadOptions {
+        imu_only: true,
+        ..a.read.options()?
+    };
     let kind: FilterKind = a.filter.parse()?;
     let config = FilterConfig::new(kind).with_gains(a.gains.gains()?);
     config.build()?; // check the gains before touching any file
