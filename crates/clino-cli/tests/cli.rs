@@ -6,7 +6,10 @@ use std::process::{Command, Output};
 const HEAD: &str = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n";
 
 fn clino(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_clino")).args(args).output().expect("run clino")
+    Command::new(env!("CARGO_BIN_EXE_clino"))
+        .args(args)
+        .output()
+        .expect("run clino")
 }
 
 /// A fresh scratch directory for one test.
@@ -36,7 +39,13 @@ fn demo_prints_every_filter() {
     let o = clino(&["demo"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout.clone()).unwrap();
-    for f in ["poisson", "complementary", "mahony", "madgwick", "CC BY 4.0"] {
+    for f in [
+        "poisson",
+        "complementary",
+        "mahony",
+        "madgwick",
+        "CC BY 4.0",
+    ] {
         assert!(out.contains(f), "{out}");
     }
 }
@@ -53,15 +62,27 @@ fn fuse_writes_one_row_per_input_row_to_stdout_and_file() {
     assert!(out.starts_with("t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status\n"));
     assert!(stderr(&o).contains("0 with NaN"), "{}", stderr(&o));
     let outfile = d.join("out.csv");
-    let o = clino(&["fuse", &input, "-f", "complementary", "-o", outfile.to_str().unwrap()]);
+    let o = clino(&[
+        "fuse",
+        &input,
+        "-f",
+        "complementary",
+        "-o",
+        outfile.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
-    assert_eq!(std::fs::read_to_string(&outfile).unwrap().lines().count(), n_in + 1);
+    assert_eq!(
+        std::fs::read_to_string(&outfile).unwrap().lines().count(),
+        n_in + 1
+    );
 }
 
 #[test]
 fn fuse_reports_nan_rows_and_strict_refuses_them() {
     let d = scratch("nan");
-    let text = format!("# c\n{HEAD}0,0,0,0,0,0,9.8\n0.01,0,nan,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.03,0,0,0,NaN,0,9.8\n");
+    let text = format!(
+        "# c\n{HEAD}0,0,0,0,0,0,9.8\n0.01,0,nan,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.03,0,0,0,NaN,0,9.8\n"
+    );
     let input = write(&d, "nan.csv", &text);
     let o = clino(&["fuse", &input, "-f", "mahony"]);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -81,13 +102,38 @@ fn fuse_reports_nan_rows_and_strict_refuses_them() {
 fn bad_inputs_fail_cleanly_with_location() {
     let d = scratch("bad");
     let cases: Vec<(&str, String, Vec<&str>)> = vec![
-        ("missing.csv", "# c\nt_s,gyr_x_rad_s,gyr_y_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,9.8\n".into(), vec![":2:", "gyr_z_rad_s", "missing column"]),
-        ("text.csv", format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,zero,0,0,9.8\n"), vec![":3:", "gyr_z_rad_s", "not a number"]),
-        ("back.csv", format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.4,0,0,0,0,0,9.8\n"), vec![":3:", "t_s", "backwards"]),
-        ("repeat.csv", format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n"), vec![":3:", "t_s", "repeats"]),
+        (
+            "missing.csv",
+            "# c\nt_s,gyr_x_rad_s,gyr_y_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,9.8\n"
+                .into(),
+            vec![":2:", "gyr_z_rad_s", "missing column"],
+        ),
+        (
+            "text.csv",
+            format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,zero,0,0,9.8\n"),
+            vec![":3:", "gyr_z_rad_s", "not a number"],
+        ),
+        (
+            "back.csv",
+            format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.4,0,0,0,0,0,9.8\n"),
+            vec![":3:", "t_s", "backwards"],
+        ),
+        (
+            "repeat.csv",
+            format!("{HEAD}0.5,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n"),
+            vec![":3:", "t_s", "repeats"],
+        ),
         ("empty.csv", String::new(), vec!["empty.csv:1:", "empty"]),
-        ("header.csv", format!("# c\n{HEAD}"), vec!["header.csv:2:", "no data rows"]),
-        ("short.csv", format!("{HEAD}0,0,0,0,0,0\n"), vec![":2:", "fields"]),
+        (
+            "header.csv",
+            format!("# c\n{HEAD}"),
+            vec!["header.csv:2:", "no data rows"],
+        ),
+        (
+            "short.csv",
+            format!("{HEAD}0,0,0,0,0,0\n"),
+            vec![":2:", "fields"],
+        ),
     ];
     for (name, text, wants) in cases {
         let input = write(&d, name, &text);
@@ -116,7 +162,11 @@ fn bad_inputs_fail_cleanly_with_location() {
     ] {
         let o = clino(&args);
         assert_eq!(o.status.code(), Some(1), "{args:?}: {}", stderr(&o));
-        assert!(stderr(&o).starts_with("clino: error:"), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).starts_with("clino: error:"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
     }
 }
 
@@ -126,7 +176,13 @@ fn eval_scores_a_directory_and_prints_json() {
     write(&d, "b.csv", excerpt());
     write(&d, "a.csv", excerpt());
     write(&d, "notes.txt", "not a recording");
-    let o = clino(&["eval", d.to_str().unwrap(), "--filter", "mahony,madgwick", "--json"]);
+    let o = clino(&[
+        "eval",
+        d.to_str().unwrap(),
+        "--filter",
+        "mahony,madgwick",
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["filters"], serde_json::json!(["mahony", "madgwick"]));
@@ -139,7 +195,10 @@ fn eval_scores_a_directory_and_prints_json() {
     let o = clino(&["eval", d.join("a.csv").to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let table = String::from_utf8(o.stdout).unwrap();
-    assert!(table.contains("complementary") && table.contains("mean"), "{table}");
+    assert!(
+        table.contains("complementary") && table.contains("mean"),
+        "{table}"
+    );
 }
 
 /// The twelve BROAD trials, when `shared/` sits beside the workspace.
@@ -147,10 +206,19 @@ fn eval_scores_a_directory_and_prints_json() {
 fn eval_over_the_broad_trials() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad");
     if !dir.is_dir() {
-        eprintln!("SKIP eval_over_the_broad_trials: {} not found", dir.display());
+        eprintln!(
+            "SKIP eval_over_the_broad_trials: {} not found",
+            dir.display()
+        );
         return;
     }
-    let o = clino(&["eval", dir.to_str().unwrap(), "--filter", "mahony,madgwick", "--json"]);
+    let o = clino(&[
+        "eval",
+        dir.to_str().unwrap(),
+        "--filter",
+        "mahony,madgwick",
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let recs = v["recordings"].as_array().unwrap();

@@ -43,13 +43,21 @@ fn bench_update(c: &mut Criterion) {
     let mut g = c.benchmark_group("update");
     g.throughput(Throughput::Elements(data.len() as u64));
     g.sample_size(20);
-    g.bench_function("poisson_exact", |b| b.iter(|| run_ours(Poisson::new(Integrator::Exact), black_box(&data), dt)));
+    g.bench_function("poisson_exact", |b| {
+        b.iter(|| run_ours(Poisson::new(Integrator::Exact), black_box(&data), dt))
+    });
     g.bench_function("poisson_rectangle", |b| {
         b.iter(|| run_ours(Poisson::new(Integrator::Rectangle), black_box(&data), dt))
     });
-    g.bench_function("complementary", |b| b.iter(|| run_ours(Complementary::new(0.05), black_box(&data), dt)));
-    g.bench_function("mahony", |b| b.iter(|| run_ours(Mahony::new(1.0, 0.02), black_box(&data), dt)));
-    g.bench_function("madgwick", |b| b.iter(|| run_ours(Madgwick::new(0.1), black_box(&data), dt)));
+    g.bench_function("complementary", |b| {
+        b.iter(|| run_ours(Complementary::new(0.05), black_box(&data), dt))
+    });
+    g.bench_function("mahony", |b| {
+        b.iter(|| run_ours(Mahony::new(1.0, 0.02), black_box(&data), dt))
+    });
+    g.bench_function("madgwick", |b| {
+        b.iter(|| run_ours(Madgwick::new(0.1), black_box(&data), dt))
+    });
     let q0 = tilt::attitude_from_up(&data[0].1).unwrap();
     g.bench_function("ahrs_mahony", |b| {
         b.iter(|| {
@@ -90,14 +98,18 @@ fn bench_fuse(c: &mut Criterion) {
         let cfg = FilterConfig::new(kind);
         g.bench_function(kind.name(), |b| {
             b.iter(|| {
-                let mut r = ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
-                fuse(&mut r, std::io::sink(), &cfg, &FuseOptions::default()).unwrap().rows
+                let mut r =
+                    ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
+                fuse(&mut r, std::io::sink(), &cfg, &FuseOptions::default())
+                    .unwrap()
+                    .rows
             })
         });
     }
     g.bench_function("read_imu_only", |b| {
         b.iter(|| {
-            let mut r = ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
+            let mut r =
+                ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
             let mut n = 0u64;
             while let Some(row) = r.next_row().unwrap() {
                 n += row.line;
@@ -107,7 +119,12 @@ fn bench_fuse(c: &mut Criterion) {
     });
     g.bench_function("read_all_columns", |b| {
         b.iter(|| {
-            let mut r = ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &ReadOptions::default()).unwrap();
+            let mut r = ImuCsvReader::new(
+                black_box(text.as_bytes()),
+                "bench.csv",
+                &ReadOptions::default(),
+            )
+            .unwrap();
             let mut n = 0u64;
             while let Some(row) = r.next_row().unwrap() {
                 n += row.line;

@@ -34,10 +34,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let beta = take("--beta", 0.1);
     let kp = take("--kp", 1.0);
     let ki = take("--ki", 0.02);
-    let dir = args
-        .first()
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad"));
+    let dir = args.first().map(PathBuf::from).unwrap_or_else(|| {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad")
+    });
     let files = expand_paths(&[dir])?;
     println!("inclination RMSE, degrees; Madgwick beta = {beta}, Mahony kp = {kp}, ki = {ki}");
     println!(
@@ -67,7 +66,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 (Some(md), Some(mh)) => {
                     // ahrs integrates with the fixed period set at construction;
                     // ours with the time-stamp difference: check they agree.
-                    assert!((dt - PERIOD).abs() < 1e-6, "{}: non-uniform step {dt} s", f.display());
+                    assert!(
+                        (dt - PERIOD).abs() < 1e-6,
+                        "{}: non-uniform step {dt} s",
+                        f.display()
+                    );
                     let _ = md.update_imu(&s.gyr_rad_s, &s.acc_m_s2);
                     let _ = mh.update_imu(&s.gyr_rad_s, &s.acc_m_s2);
                 }
@@ -81,7 +84,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             max_q_diff[0] = max_q_diff[0].max(ours_md.attitude().angle_to(&md.quat));
             max_q_diff[1] = max_q_diff[1].max(ours_mh.attitude().angle_to(&mh.quat));
             if let (Some(true), Some(q_ref)) = (row.movement, row.ref_q) {
-                for (k, q) in [ours_md.attitude(), md.quat, ours_mh.attitude(), mh.quat].iter().enumerate() {
+                for (k, q) in [ours_md.attitude(), md.quat, ours_mh.attitude(), mh.quat]
+                    .iter()
+                    .enumerate()
+                {
                     rms[k].push(inclination_error(q, &q_ref));
                 }
             }
@@ -91,7 +97,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             sums[k] += v[k];
         }
         let name = f.file_stem().unwrap().to_string_lossy();
-        println!("{name:<46} {:>9.3} {:>13.3} {:>9.3} {:>13.3}", v[0], v[1], v[2], v[3]);
+        println!(
+            "{name:<46} {:>9.3} {:>13.3} {:>9.3} {:>13.3}",
+            v[0], v[1], v[2], v[3]
+        );
     }
     let n = files.len() as f64;
     println!(
@@ -108,4 +117,3 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     Ok(())
 }
-

@@ -64,7 +64,11 @@ impl Rms {
     }
     /// √(Σx²/n); NaN when empty.
     pub fn value(&self) -> f64 {
-        if self.n == 0 { f64::NAN } else { (self.sum_sq / self.n as f64).sqrt() }
+        if self.n == 0 {
+            f64::NAN
+        } else {
+            (self.sum_sq / self.n as f64).sqrt()
+        }
     }
 }
 
@@ -106,8 +110,14 @@ pub struct EvalTable {
 
 /// Score filters on one recording, in one pass over it (every filter sees
 /// every row). The recording needs `ref_q{w,x,y,z}` and `movement` columns.
-pub fn score_reader<R: Read>(reader: &mut ImuCsvReader<R>, configs: &[FilterConfig]) -> Result<RecordingScore> {
-    for (ok, col) in [(reader.has_reference(), "ref_qw"), (reader.has_movement(), "movement")] {
+pub fn score_reader<R: Read>(
+    reader: &mut ImuCsvReader<R>,
+    configs: &[FilterConfig],
+) -> Result<RecordingScore> {
+    for (ok, col) in [
+        (reader.has_reference(), "ref_qw"),
+        (reader.has_movement(), "movement"),
+    ] {
         if !ok {
             return Err(Error::new(
                 ErrorKind::MissingColumn,
@@ -156,7 +166,11 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             let mut inside = Vec::new();
             for entry in std::fs::read_dir(p).map_err(|e| Error::from(e).in_file(p))? {
                 let path = entry.map_err(|e| Error::from(e).in_file(p))?.path();
-                if path.is_file() && path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) {
+                if path.is_file()
+                    && path
+                        .extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+                {
                     inside.push(path);
                 }
             }
@@ -206,7 +220,11 @@ impl EvalTable {
                     .map(|r| r.scores[j].rmse_deg)
                     .filter(|x| x.is_finite())
                     .collect();
-                if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 }
+                if v.is_empty() {
+                    f64::NAN
+                } else {
+                    v.iter().sum::<f64>() / v.len() as f64
+                }
             })
             .collect();
         Self {
@@ -236,7 +254,13 @@ impl EvalTable {
             s.push_str(&format!("  {f:>w$}"));
         }
         s.push('\n');
-        let cell = |x: f64, w: usize| if x.is_finite() { format!("  {x:>w$.3}") } else { format!("  {:>w$}", "n/a") };
+        let cell = |x: f64, w: usize| {
+            if x.is_finite() {
+                format!("  {x:>w$.3}")
+            } else {
+                format!("  {:>w$}", "n/a")
+            }
+        };
         for (n, r) in names.iter().zip(&self.recordings) {
             s.push_str(&format!("{n:<w0$}"));
             for (sc, w) in r.scores.iter().zip(&widths) {
@@ -264,7 +288,11 @@ mod tests {
     #[test]
     fn known_tilt_error_gives_that_angle_about_any_horizontal_axis() {
         let r = Attitude::from_euler_angles(0.4, 0.3, -2.0);
-        for (ax, ang) in [(Vector3::x(), 0.1), (Vector3::y(), 0.7), (Vector3::new(1.0, 1.0, 0.0), 1.3)] {
+        for (ax, ang) in [
+            (Vector3::x(), 0.1),
+            (Vector3::y(), 0.7),
+            (Vector3::new(1.0, 1.0, 0.0), 1.3),
+        ] {
             let e = Attitude::from_axis_angle(&Unit::new_normalize(ax), ang);
             assert!((inclination_error(&(e * r), &r) - ang).abs() < 1e-12);
         }
@@ -327,11 +355,19 @@ mod tests {
             text.push_str(&line);
         }
         let mut r = ImuCsvReader::new(text.as_bytes(), "m.csv", &ReadOptions::default()).unwrap();
-        let cfg: Vec<FilterConfig> = FilterKind::ALL.iter().map(|k| FilterConfig::new(*k)).collect();
+        let cfg: Vec<FilterConfig> = FilterKind::ALL
+            .iter()
+            .map(|k| FilterConfig::new(*k))
+            .collect();
         let rec = score_reader(&mut r, &cfg).unwrap();
         for sc in &rec.scores {
             assert_eq!(sc.scored, 8, "{}", sc.filter);
-            assert!((sc.rmse_deg - 2.0).abs() < 1e-9, "{}: {}", sc.filter, sc.rmse_deg);
+            assert!(
+                (sc.rmse_deg - 2.0).abs() < 1e-9,
+                "{}: {}",
+                sc.filter,
+                sc.rmse_deg
+            );
         }
     }
 

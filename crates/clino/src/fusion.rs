@@ -87,13 +87,16 @@ impl FromStr for FilterKind {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
         let s = s.trim().to_ascii_lowercase();
-        Self::ALL.into_iter().find(|k| k.name() == s).ok_or_else(|| {
-            let names: Vec<&str> = Self::ALL.iter().map(|k| k.name()).collect();
-            Error::new(
-                ErrorKind::InvalidInput,
-                format!("unknown filter '{s}' (known: {})", names.join(", ")),
-            )
-        })
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|k| k.name()).collect();
+                Error::new(
+                    ErrorKind::InvalidInput,
+                    format!("unknown filter '{s}' (known: {})", names.join(", ")),
+                )
+            })
     }
 }
 
@@ -193,12 +196,10 @@ impl FilterConfig {
         check("beta", g.madgwick_beta, f64::MAX)?;
         Ok(match self.kind {
             FilterKind::Poisson => Box::new(Poisson::new(g.integrator.unwrap_or_default())),
-            FilterKind::Complementary => {
-                Box::new(Complementary::with_integrator(
-                    g.complementary_k,
-                    g.integrator.unwrap_or(Integrator::Rectangle),
-                ))
-            }
+            FilterKind::Complementary => Box::new(Complementary::with_integrator(
+                g.complementary_k,
+                g.integrator.unwrap_or(Integrator::Rectangle),
+            )),
             FilterKind::Mahony => Box::new(Mahony::new(g.mahony_kp, g.mahony_ki)),
             FilterKind::Madgwick => Box::new(Madgwick::new(g.madgwick_beta)),
         })
@@ -300,7 +301,9 @@ impl Fuser {
         // Before the first usable row dt is never used (the filter initialises
         // from the accelerometer); any positive value passes the filter's check.
         let dt = self.last_t.map_or(f64::MIN_POSITIVE, |t0| t - t0);
-        let step = self.filter.update(row.sample.gyr_rad_s, row.sample.acc_m_s2, dt);
+        let step = self
+            .filter
+            .update(row.sample.gyr_rad_s, row.sample.acc_m_s2, dt);
         let status = match step {
             Step::Fused => RowStatus::Fused,
             Step::GyroOnly => RowStatus::GyroOnly,
@@ -418,7 +421,10 @@ pub fn demo_summary() -> Result<String> {
         "broad_07_excerpt.csv",
         &crate::io::ReadOptions::default(),
     )?;
-    let configs: Vec<FilterConfig> = FilterKind::ALL.iter().map(|k| FilterConfig::new(*k)).collect();
+    let configs: Vec<FilterConfig> = FilterKind::ALL
+        .iter()
+        .map(|k| FilterConfig::new(*k))
+        .collect();
     let rec = crate::eval::score_reader(&mut reader, &configs)?;
     let secs = reader.rows_read() as f64 / 285.714;
     let mut s = format!(
@@ -428,7 +434,10 @@ pub fn demo_summary() -> Result<String> {
         rec.rows,
         rec.scores.first().map_or(0, |s| s.scored)
     );
-    s.push_str(&format!("  {:<14} {:>18}  {}\n", "filter", "inclination RMSE", "gains"));
+    s.push_str(&format!(
+        "  {:<14} {:>18}  {}\n",
+        "filter", "inclination RMSE", "gains"
+    ));
     let g = Gains::default();
     for (c, sc) in configs.iter().zip(&rec.scores) {
         let gains = match c.kind {
@@ -437,7 +446,10 @@ pub fn demo_summary() -> Result<String> {
             FilterKind::Mahony => format!("kp = {}, ki = {}", g.mahony_kp, g.mahony_ki),
             FilterKind::Madgwick => format!("beta = {} rad/s", g.madgwick_beta),
         };
-        s.push_str(&format!("  {:<14} {:>16.2} °  {}\n", sc.filter, sc.rmse_deg, gains));
+        s.push_str(&format!(
+            "  {:<14} {:>16.2} °  {}\n",
+            sc.filter, sc.rmse_deg, gains
+        ));
     }
     s.push_str("\nData: BROAD, CC BY 4.0, Laidig, Caruso, Cereatti, Seel, Data 6(7) 2021.\n");
     Ok(s)
@@ -453,7 +465,12 @@ mod tests {
     fn run(text: &str, kind: FilterKind, strict: bool) -> Result<(FuseReport, String)> {
         let mut r = ImuCsvReader::new(text.as_bytes(), "mem.csv", &ReadOptions::default())?;
         let mut out = Vec::new();
-        let rep = fuse(&mut r, &mut out, &FilterConfig::new(kind), &FuseOptions { strict })?;
+        let rep = fuse(
+            &mut r,
+            &mut out,
+            &FilterConfig::new(kind),
+            &FuseOptions { strict },
+        )?;
         Ok((rep, String::from_utf8(out).unwrap()))
     }
 
@@ -464,7 +481,10 @@ mod tests {
         }
         let e = "kalman".parse::<FilterKind>().unwrap_err();
         assert!(e.message.contains("kalman") && e.message.contains("madgwick"));
-        assert_eq!(FilterKind::parse_list("mahony, madgwick,mahony").unwrap(), vec![FilterKind::Mahony, FilterKind::Madgwick]);
+        assert_eq!(
+            FilterKind::parse_list("mahony, madgwick,mahony").unwrap(),
+            vec![FilterKind::Mahony, FilterKind::Madgwick]
+        );
         assert_eq!(FilterKind::parse_list("all").unwrap().len(), 4);
         assert!(FilterKind::parse_list(",").is_err());
     }
@@ -525,7 +545,11 @@ mod tests {
         let (rep, out) = run(&text, FilterKind::Poisson, false).unwrap();
         assert_eq!(rep.dropouts, 2);
         assert_eq!(rep.first_dropout_line, Some(4));
-        let rows: Vec<Vec<&str>> = out.lines().skip(1).map(|l| l.split(',').collect()).collect();
+        let rows: Vec<Vec<&str>> = out
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
         assert_eq!(rows[2][8], "dropout");
         assert_eq!(rows[3][8], "dropout");
         // Held: same quaternion as the row before.

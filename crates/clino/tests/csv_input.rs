@@ -18,7 +18,11 @@ fn assert_at(e: &Error, kind: ErrorKind, line: u64, column: Option<&str>) {
     assert_eq!(e.kind, kind, "{e}");
     assert_eq!(e.line, Some(line), "{e}");
     assert_eq!(e.column.as_deref(), column, "{e}");
-    assert_eq!(e.file.as_deref(), Some(std::path::Path::new("rec.csv")), "{e}");
+    assert_eq!(
+        e.file.as_deref(),
+        Some(std::path::Path::new("rec.csv")),
+        "{e}"
+    );
 }
 
 #[test]
@@ -26,10 +30,16 @@ fn line_numbers_count_comments_blank_lines_and_crlf() {
     let text = "# trial\n# more\nt_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n\
                 0,1,2,3,4,5,6\n# in between\n\n0.1,1,2,3,4,5,6\n0.2,1,2,3,4,5,6";
     let rows = read_all(text, &ReadOptions::default()).unwrap();
-    assert_eq!(rows.iter().map(|r| r.line).collect::<Vec<_>>(), vec![4, 7, 8]);
+    assert_eq!(
+        rows.iter().map(|r| r.line).collect::<Vec<_>>(),
+        vec![4, 7, 8]
+    );
     let crlf = text.replace('\n', "\r\n") + "\r\n";
     let rows = read_all(&crlf, &ReadOptions::default()).unwrap();
-    assert_eq!(rows.iter().map(|r| r.line).collect::<Vec<_>>(), vec![4, 7, 8]);
+    assert_eq!(
+        rows.iter().map(|r| r.line).collect::<Vec<_>>(),
+        vec![4, 7, 8]
+    );
     assert_eq!(rows[2].sample.acc_m_s2.z, 6.0);
 }
 
@@ -53,7 +63,8 @@ fn columns_are_found_by_name_in_any_order_with_optional_ones() {
 
 #[test]
 fn units_deg_s_and_g_are_converted() {
-    let text = "t_s,gyr_x_deg_s,gyr_y_deg_s,gyr_z_deg_s,acc_x_g,acc_y_g,acc_z_g\n0,180,0,-90,0,0.5,1\n";
+    let text =
+        "t_s,gyr_x_deg_s,gyr_y_deg_s,gyr_z_deg_s,acc_x_g,acc_y_g,acc_z_g\n0,180,0,-90,0,0.5,1\n";
     let opts = ReadOptions {
         gyro_unit: GyroUnit::DegPerS,
         accel_unit: AccelUnit::G,
@@ -70,8 +81,14 @@ fn units_deg_s_and_g_are_converted() {
     assert!((r.sample.gyr_rad_s.x - std::f64::consts::PI).abs() < 1e-15);
     assert_eq!("deg/s".parse::<GyroUnit>().unwrap(), GyroUnit::DegPerS);
     assert_eq!("g".parse::<AccelUnit>().unwrap(), AccelUnit::G);
-    assert_eq!("furlong/s".parse::<GyroUnit>().unwrap_err().kind, ErrorKind::InvalidInput);
-    assert_eq!("gal".parse::<AccelUnit>().unwrap_err().kind, ErrorKind::InvalidInput);
+    assert_eq!(
+        "furlong/s".parse::<GyroUnit>().unwrap_err().kind,
+        ErrorKind::InvalidInput
+    );
+    assert_eq!(
+        "gal".parse::<AccelUnit>().unwrap_err().kind,
+        ErrorKind::InvalidInput
+    );
 }
 
 #[test]
@@ -96,20 +113,35 @@ fn rate_gives_time_when_there_is_no_time_column() {
         ..ReadOptions::default()
     };
     let rows = read_all(text, &opts).unwrap();
-    assert_eq!(rows.iter().map(|r| r.sample.t_s).collect::<Vec<_>>(), vec![0.0, 0.005, 0.01]);
+    assert_eq!(
+        rows.iter().map(|r| r.sample.t_s).collect::<Vec<_>>(),
+        vec![0.0, 0.005, 0.01]
+    );
     let bad = ReadOptions {
         rate_hz: Some(-1.0),
         ..ReadOptions::default()
     };
-    assert_eq!(read_all(text, &bad).unwrap_err().kind, ErrorKind::InvalidInput);
+    assert_eq!(
+        read_all(text, &bad).unwrap_err().kind,
+        ErrorKind::InvalidInput
+    );
 }
 
 #[test]
 fn missing_column_names_it() {
     let text = "# c\nt_s,gyr_x_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,9.8\n";
     assert_at(&err(text), ErrorKind::MissingColumn, 2, Some("gyr_y_rad_s"));
-    let partial_ref = format!("{}{}", HEAD.trim_end(), ",ref_qw,ref_qx\n0,0,0,0,0,0,9.8,1,0\n");
-    assert_at(&err(&partial_ref), ErrorKind::MissingColumn, 1, Some("ref_qy"));
+    let partial_ref = format!(
+        "{}{}",
+        HEAD.trim_end(),
+        ",ref_qw,ref_qx\n0,0,0,0,0,0,9.8,1,0\n"
+    );
+    assert_at(
+        &err(&partial_ref),
+        ErrorKind::MissingColumn,
+        1,
+        Some("ref_qy"),
+    );
 }
 
 #[test]
@@ -122,7 +154,9 @@ fn non_numeric_cell_names_line_and_column() {
     let e = err(&format!("{HEAD}0,0,0,0,0,0,9.8\n0.0x1,0,0,0,0,0,9.8"));
     assert_at(&e, ErrorKind::Parse, 3, Some("t_s"));
     // And in an optional column.
-    let e = err("t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,movement\n0,0,0,0,0,0,9.8,yes\n");
+    let e = err(
+        "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,movement\n0,0,0,0,0,0,9.8,yes\n",
+    );
     assert_at(&e, ErrorKind::Parse, 2, Some("movement"));
 }
 
@@ -137,7 +171,9 @@ fn wrong_number_of_fields_is_an_error() {
 
 #[test]
 fn time_going_backwards_or_repeating_is_an_error() {
-    let e = err(&format!("{HEAD}0,0,0,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n"));
+    let e = err(&format!(
+        "{HEAD}0,0,0,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n"
+    ));
     assert_at(&e, ErrorKind::TimeNotIncreasing, 4, Some("t_s"));
     assert!(e.message.contains("backwards"));
     let e = err(&format!("# c\n{HEAD}0,0,0,0,0,0,9.8\n0,0,0,0,0,0,9.8\n"));
@@ -164,26 +200,46 @@ fn empty_and_header_only_files_are_errors() {
 
 #[test]
 fn nan_sensor_values_are_passed_on_and_flagged() {
-    let rows = read_all(&format!("{HEAD}0,nan,0,0,0,0,9.8\n0.01,0,0,0,0,,9.8\n0.02,0,0,0,0,0,9.8\n"), &ReadOptions::default()).unwrap();
-    assert_eq!(rows.iter().map(|r| r.has_dropout()).collect::<Vec<_>>(), vec![true, true, false]);
+    let rows = read_all(
+        &format!("{HEAD}0,nan,0,0,0,0,9.8\n0.01,0,0,0,0,,9.8\n0.02,0,0,0,0,0,9.8\n"),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        rows.iter().map(|r| r.has_dropout()).collect::<Vec<_>>(),
+        vec![true, true, false]
+    );
     assert!(rows[1].sample.acc_m_s2.y.is_nan());
 }
 
 #[test]
 fn missing_file_is_an_io_error_naming_it() {
-    let e = ImuCsvReader::from_path("/nonexistent/rec.csv", &ReadOptions::default()).err().unwrap();
+    let e = ImuCsvReader::from_path("/nonexistent/rec.csv", &ReadOptions::default())
+        .err()
+        .unwrap();
     assert_eq!(e.kind, ErrorKind::Io);
-    assert_eq!(e.file.as_deref(), Some(std::path::Path::new("/nonexistent/rec.csv")));
+    assert_eq!(
+        e.file.as_deref(),
+        Some(std::path::Path::new("/nonexistent/rec.csv"))
+    );
 }
 
 #[test]
 fn reads_the_embedded_broad_excerpt() {
-    let r = ImuCsvReader::new(clino::demo::BROAD_EXCERPT.as_bytes(), "excerpt.csv", &ReadOptions::default()).unwrap();
+    let r = ImuCsvReader::new(
+        clino::demo::BROAD_EXCERPT.as_bytes(),
+        "excerpt.csv",
+        &ReadOptions::default(),
+    )
+    .unwrap();
     assert!(r.has_reference() && r.has_movement());
     let rows: Vec<ImuRow> = r.collect::<Result<_, _>>().unwrap();
     assert_eq!(rows.len(), clino::demo::BROAD_EXCERPT.lines().count() - 3);
     assert_eq!(rows[0].line, 4);
-    assert!(rows.iter().any(|r| r.movement == Some(true) && r.ref_q.is_some()));
+    assert!(
+        rows.iter()
+            .any(|r| r.movement == Some(true) && r.ref_q.is_some())
+    );
     // 285.714 Hz
     let dt = rows[1].sample.t_s - rows[0].sample.t_s;
     assert!((dt - 0.0035).abs() < 1e-9);

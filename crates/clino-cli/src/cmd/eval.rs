@@ -37,7 +37,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         c.build()?;
     }
     let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}")?);
+    bar.set_style(indicatif::ProgressStyle::with_template(
+        "{bar:30} {pos}/{len} {msg}",
+    )?);
     let table = evaluate(&a.paths, &configs, &opts, |i, n, p| {
         bar.set_length(n as u64);
         bar.set_position(i as u64);

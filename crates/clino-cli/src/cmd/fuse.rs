@@ -42,11 +42,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let input: Box<dyn std::io::Read> = if a.input.as_os_str() == "-" {
         Box::new(std::io::stdin().lock())
     } else {
-        Box::new(std::fs::File::open(&a.input).map_err(|e| clino::Error::from(e).in_file(&a.input))?)
+        Box::new(
+            std::fs::File::open(&a.input).map_err(|e| clino::Error::from(e).in_file(&a.input))?,
+        )
     };
     let mut reader = ImuCsvReader::new(input, &a.input, &opts)?;
     let out: Box<dyn Write> = match &a.output {
-        Some(p) if p.as_os_str() != "-" => Box::new(std::fs::File::create(p).map_err(|e| clino::Error::from(e).in_file(p))?),
+        Some(p) if p.as_os_str() != "-" => {
+            Box::new(std::fs::File::create(p).map_err(|e| clino::Error::from(e).in_file(p))?)
+        }
         _ => Box::new(std::io::stdout().lock()),
     };
     let rep = fuse(&mut reader, out, &config, &fuse_opts)?;
@@ -59,7 +63,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         rep.gyro_only,
         rep.waiting,
         rep.dropouts,
-        rep.first_dropout_line.map(|l| format!(", first at line {l}")).unwrap_or_default()
+        rep.first_dropout_line
+            .map(|l| format!(", first at line {l}"))
+            .unwrap_or_default()
     );
     Ok(())
 }

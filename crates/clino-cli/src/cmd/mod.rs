@@ -56,11 +56,18 @@ pub struct GainArgs {
 impl GainArgs {
     /// The library's gains.
     pub fn gains(&self) -> anyhow::Result<Gains> {
-        let integrator = match self.integrator.as_deref().map(str::to_ascii_lowercase).as_deref() {
+        let integrator = match self
+            .integrator
+            .as_deref()
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
             None => None,
             Some("exact") => Some(Integrator::Exact),
             Some("rectangle") => Some(Integrator::Rectangle),
-            Some(other) => anyhow::bail!("unknown integrator '{other}' (expected exact or rectangle)"),
+            Some(other) => {
+                anyhow::bail!("unknown integrator '{other}' (expected exact or rectangle)")
+            }
         };
         Ok(Gains {
             complementary_k: self.k,

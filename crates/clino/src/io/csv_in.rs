@@ -262,7 +262,9 @@ impl<R: Read> ImuCsvReader<R> {
             .in_file(&file));
         }
         if !(opts.g.is_finite() && opts.g > 0.0) {
-            return Err(Error::new(ErrorKind::InvalidInput, "gravity must be positive").in_file(&file));
+            return Err(
+                Error::new(ErrorKind::InvalidInput, "gravity must be positive").in_file(&file),
+            );
         }
         let mut me = Self {
             rdr,
@@ -292,7 +294,10 @@ impl<R: Read> ImuCsvReader<R> {
         };
         if !me.read_record()? {
             return Err(me
-                .err(ErrorKind::Empty, "the file is empty: no header line (nor data)")
+                .err(
+                    ErrorKind::Empty,
+                    "the file is empty: no header line (nor data)",
+                )
                 .at_line(me.line.max(1)));
         }
         me.header = me
@@ -345,7 +350,11 @@ impl<R: Read> ImuCsvReader<R> {
         (0..3)
             .find(|&k| !s.gyr_rad_s[k].is_finite())
             .map(|k| self.cols.gyr[k])
-            .or_else(|| (0..3).find(|&k| !s.acc_m_s2[k].is_finite()).map(|k| self.cols.acc[k]))
+            .or_else(|| {
+                (0..3)
+                    .find(|&k| !s.acc_m_s2[k].is_finite())
+                    .map(|k| self.cols.acc[k])
+            })
             .map(|i| self.header[i].as_str())
     }
 
@@ -358,7 +367,11 @@ impl<R: Read> ImuCsvReader<R> {
         loop {
             let more = self.rdr.read_byte_record(&mut self.rec).map_err(|e| {
                 let line = e.position().map(|p| p.line()).unwrap_or(self.line + 1);
-                let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) { ErrorKind::Io } else { ErrorKind::Parse };
+                let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) {
+                    ErrorKind::Io
+                } else {
+                    ErrorKind::Parse
+                };
                 self.err(kind, e.to_string()).at_line(line)
             })?;
             let end = self.rdr.position();
@@ -441,17 +454,32 @@ impl<R: Read> ImuCsvReader<R> {
                 }
             };
         }
-        let mag = match (self.find(&["mag_x_uT"]), self.find(&["mag_y_uT"]), self.find(&["mag_z_uT"])) {
+        let mag = match (
+            self.find(&["mag_x_uT"]),
+            self.find(&["mag_y_uT"]),
+            self.find(&["mag_z_uT"]),
+        ) {
             (Some(x), Some(y), Some(z)) => Some([x, y, z]),
             _ => None,
         };
         let ref_names = ["ref_qw", "ref_qx", "ref_qy", "ref_qz"];
         let found: Vec<Option<usize>> = ref_names.iter().map(|n| self.find(&[n])).collect();
         let ref_q = if found.iter().all(|f| f.is_some()) {
-            Some([found[0].unwrap(), found[1].unwrap(), found[2].unwrap(), found[3].unwrap()])
+            Some([
+                found[0].unwrap(),
+                found[1].unwrap(),
+                found[2].unwrap(),
+                found[3].unwrap(),
+            ])
         } else if let Some(k) = found.iter().position(|f| f.is_some()) {
             let miss = ref_names[found.iter().position(|f| f.is_none()).unwrap()];
-            return Err(missing(miss, format!("the file has '{}' but not all four reference components", ref_names[k])));
+            return Err(missing(
+                miss,
+                format!(
+                    "the file has '{}' but not all four reference components",
+                    ref_names[k]
+                ),
+            ));
         } else {
             None
         };
@@ -495,7 +523,10 @@ impl<R: Read> ImuCsvReader<R> {
         parse_f64(raw).ok_or_else(|| {
             self.err(
                 ErrorKind::Parse,
-                format!("not a number: '{}'", String::from_utf8_lossy(raw.trim_ascii())),
+                format!(
+                    "not a number: '{}'",
+                    String::from_utf8_lossy(raw.trim_ascii())
+                ),
             )
             .at_line(self.line)
             .at_column(name())
@@ -524,7 +555,12 @@ impl<R: Read> ImuCsvReader<R> {
             return Ok(None);
         }
         if self.rec.len() != self.header.len() {
-            let col = self.header.get(self.rec.len()).or(self.header.last()).cloned().unwrap_or_default();
+            let col = self
+                .header
+                .get(self.rec.len())
+                .or(self.header.last())
+                .cloned()
+                .unwrap_or_default();
             return Err(self
                 .err(
                     ErrorKind::Parse,
@@ -542,14 +578,21 @@ impl<R: Read> ImuCsvReader<R> {
                 let t = self.cell(i)?;
                 if !t.is_finite() {
                     return Err(self
-                        .err(ErrorKind::InvalidInput, format!("time stamp is not a finite number ({t})"))
+                        .err(
+                            ErrorKind::InvalidInput,
+                            format!("time stamp is not a finite number ({t})"),
+                        )
                         .at_line(self.line)
                         .at_column(self.header[i].clone()));
                 }
                 if let Some(prev) = self.last_t
                     && t <= prev
                 {
-                    let what = if t == prev { "repeats" } else { "goes backwards" };
+                    let what = if t == prev {
+                        "repeats"
+                    } else {
+                        "goes backwards"
+                    };
                     return Err(self
                         .err(
                             ErrorKind::TimeNotIncreasing,

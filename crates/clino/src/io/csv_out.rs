@@ -54,7 +54,8 @@ impl<W: Write> CsvLineWriter<W> {
     pub fn f64(&mut self, x: f64) {
         self.sep();
         if x.is_finite() {
-            self.line.extend_from_slice(self.fmt.format_finite(x).as_bytes());
+            self.line
+                .extend_from_slice(self.fmt.format_finite(x).as_bytes());
         } else {
             self.line.extend_from_slice(self.fmt.format(x).as_bytes());
         }
