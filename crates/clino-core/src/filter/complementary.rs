@@ -43,7 +43,11 @@ impl Complementary {
     /// A filter with blend weight `k` and a chosen integrator for C_gyro.
     pub fn with_integrator(k: f64, integrator: Integrator) -> Self {
         Self {
-            k: if k.is_finite() { k.clamp(0.0, 1.0) } else { 0.05 },
+            k: if k.is_finite() {
+                k.clamp(0.0, 1.0)
+            } else {
+                0.05
+            },
             gyro: Poisson::new(integrator),
         }
     }
@@ -81,7 +85,11 @@ impl Complementary {
         // M = R_y(θ)·R_x(φ) from the unit specific force (its third row is â)
         let ct = sqrt(a.y * a.y + a.z * a.z);
         let st = -a.x;
-        let (cf, sf) = if ct > 1e-9 { (a.z / ct, a.y / ct) } else { (1.0, 0.0) };
+        let (cf, sf) = if ct > 1e-9 {
+            (a.z / ct, a.y / ct)
+        } else {
+            (1.0, 0.0)
+        };
         let m = Matrix3::new(ct, st * sf, st * cf, 0.0, cf, -sf, -st, ct * sf, ct * cf);
         let mut out = m;
         for j in 0..3 {
@@ -145,7 +153,9 @@ mod tests {
     #[test]
     fn acc_dcm_has_accelerometer_tilt_and_gyro_heading() {
         let truth = UnitQuaternion::from_euler_angles(0.3, -0.5, 1.2);
-        let c = *UnitQuaternion::from_euler_angles(0.1, 0.1, 1.2).to_rotation_matrix().matrix();
+        let c = *UnitQuaternion::from_euler_angles(0.1, 0.1, 1.2)
+            .to_rotation_matrix()
+            .matrix();
         let acc = crate::tilt::up_in_body(&truth) * 9.81;
         let ca = Complementary::acc_dcm(&c, &acc).unwrap();
         let expected = truth.to_rotation_matrix();
@@ -157,7 +167,11 @@ mod tests {
         let ts = 0.01;
         let f = Complementary::from_time_constant(0.5, ts);
         assert_relative_eq!(f.time_constant(ts), 0.5, max_relative = 1e-12);
-        assert_relative_eq!(Complementary::new(0.05).time_constant(0.01), 0.194_957, max_relative = 1e-5);
+        assert_relative_eq!(
+            Complementary::new(0.05).time_constant(0.01),
+            0.194_957,
+            max_relative = 1e-5
+        );
     }
 
     #[test]

@@ -93,6 +93,7 @@ pub(crate) fn good_dt(dt: f64) -> bool {
 /// The exact rotation-vector step: q ⊗ exp(φ/2) for the body rotation vector
 /// φ = ω·dt (rate constant over the step). Uses the Taylor form of sin(x)/x
 /// below 1e-4 rad so it stays exact near zero rate.
+#[allow(dead_code)] // used by the dynamic filter
 #[inline(always)]
 pub(crate) fn rotate_body(q: &Attitude, phi: Vec3) -> Attitude {
     let a2 = phi.norm_squared();
