@@ -146,11 +146,7 @@ mod tests {
             let mut d = Quaternion::new(0.0, 0.0, 0.0, 0.0);
             d.coords[(i + 3) % 4] = h; // coords are (x, y, z, w)
             let num = (cost(q0 + d) - cost(q0 - d)) / (2.0 * h);
-            assert!(
-                (num - g[i]).abs() < 1e-7,
-                "component {i}: {num} vs {}",
-                g[i]
-            );
+            assert!((num - gi).abs() < 1e-7, "component {i}: {num} vs {gi}");
         }
     }
 
