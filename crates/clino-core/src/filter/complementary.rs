@@ -1,6 +1,6 @@
 //! The complementary filter of the MPU6050 + Arduino inclinometer.
 
-use super::poisson::{dcm_to_attitude, orthonormalise};
+use super::poisson::dcm_to_attitude;
 use super::{AttitudeFilter, Integrator, Poisson, Step, finite3, good_dt, init_from_acc};
 use crate::math::{ln, sqrt};
 use crate::{Attitude, Vec3};
@@ -118,15 +118,25 @@ impl AttitudeFilter for Complementary {
                 None => Step::Waiting,
             };
         }
-        self.gyro.step(gyr * dt);
+        self.gyro.step_raw(gyr * dt);
         let c = *self.gyro.dcm();
         match Self::acc_dcm(&c, &acc) {
             Some(ca) => {
-                let blended = orthonormalise(&((1.0 - self.k) * c + self.k * ca));
+                // The gyro step leaves C off-orthogonal by |φ|²/2 (rectangle) and the
+                // blend of two nearby rotations adds about k(1−k)·δ²/2 for an angle δ
+                // between them; one pass of the quadratically convergent iteration
+                // leaves ≈ 1.5·(that)², and the next sample starts from there, so
+                // the error never accumulates.
+                let b = (1.0 - self.k) * c + self.k * ca;
+                let blended = b + 0.5 * (Matrix3::identity() - b * b.transpose()) * b;
                 self.gyro = Poisson::with_dcm(self.gyro.integrator, blended);
                 Step::Fused
             }
-            None => Step::GyroOnly,
+            None => {
+                self.gyro =
+                    Poisson::with_dcm(self.gyro.integrator, super::poisson::orthonormalise(&c));
+                Step::GyroOnly
+            }
         }
     }
 

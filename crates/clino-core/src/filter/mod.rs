@@ -6,6 +6,7 @@
 //! | [`Complementary`] | C_out = (1 − k)·C_gyro + k·C_acc on direction-cosine matrices | same paper, eq 5 |
 //! | [`Mahony`] | proportional-integral correction of the rate, gyro-bias integral | Mahony, Hamel, Pflimlin, IEEE TAC 53(5), 2008 |
 //! | [`Madgwick`] | gradient-descent step towards the accelerometer direction | Madgwick, Harrison, Vaidyanathan, ICORR 2011 |
+//! | [`Dynamic`] | clino's own: bounded-velocity tilt loop with bias, rest and rate adaptation | this crate ([`dynamic`]) |
 //!
 //! Every filter follows the same contract ([`AttitudeFilter`]):
 //!
@@ -19,11 +20,13 @@
 //! * nothing allocates, nothing panics.
 
 mod complementary;
+pub mod dynamic;
 mod madgwick;
 mod mahony;
 mod poisson;
 
 pub use complementary::Complementary;
+pub use dynamic::{Dynamic, DynamicParams};
 pub use madgwick::Madgwick;
 pub use mahony::Mahony;
 pub use poisson::{Integrator, Poisson};

@@ -83,8 +83,15 @@ impl Poisson {
         &self.c
     }
 
-    /// One integration step of the Poisson equation with body rotation vector φ = ω·h.
+    /// One integration step of the Poisson equation with body rotation vector
+    /// φ = ω·h, followed by re-orthonormalisation.
     pub fn step(&mut self, phi: Vec3) {
+        self.step_raw(phi);
+        self.c = orthonormalise(&self.c);
+    }
+
+    /// The integration step without re-orthonormalisation (the caller does it).
+    pub(crate) fn step_raw(&mut self, phi: Vec3) {
         let a = skew(&phi);
         match self.integrator {
             Integrator::Rectangle => {
@@ -102,7 +109,6 @@ impl Poisson {
                 self.c *= e;
             }
         }
-        self.c = orthonormalise(&self.c);
     }
 }
 
