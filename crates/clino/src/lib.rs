@@ -6,7 +6,8 @@
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
-//! * [`sim`] — truth trajectories and simulated sensors.
+//! * [`sim`] — truth trajectories and simulated sensors;
+//! * [`smooth`] — offline (forward–backward) tilt for whole recordings.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
 //! frame, Hamilton scalar-first quaternions rotating body to navigation,
@@ -18,5 +19,6 @@ pub use clino_core as core;
 pub mod error;
 pub mod report;
 pub mod sim;
+pub mod smooth;
 
 pub use error::{Error, ErrorKind, Result};

@@ -3,6 +3,8 @@
 //! A [`Motion`] gives the exact kinematics at any time ([`Truth`]); an IMU
 //! error model turns truth into [`clino_core::ImuSample`]s.
 
+pub mod slewing;
+
 use clino_core::{Attitude, Vec3};
 
 /// Exact kinematics of the sensor at one instant.
