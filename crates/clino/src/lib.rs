@@ -6,7 +6,9 @@
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
-//! * [`sim`] — truth trajectories and simulated sensors;
+//! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
+//! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
+//!   cross-coupling, Allan deviation).
 //! * [`smooth`] — offline (forward–backward) tilt for whole recordings.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
@@ -16,6 +18,7 @@
 
 pub use clino_core as core;
 
+pub mod bench;
 pub mod error;
 pub mod report;
 pub mod sim;
