@@ -6,7 +6,10 @@
 //! * [`sample`] — one time-stamped IMU reading ([`ImuSample`]);
 //! * [`filter`] — attitude filters behind one trait ([`AttitudeFilter`]):
 //!   strapdown integration of the Poisson equation, the complementary filter
-//!   of the MPU6050 + Arduino inclinometer, Mahony and Madgwick;
+//!   of the MPU6050 + Arduino inclinometer, Mahony, Madgwick, and clino's own
+//!   [`filter::Dynamic`] (bounded-velocity tilt loop with bias, rest and rate adaptation);
+//! * [`compensate`] — lever-arm (tangential r·dω/dt and centripetal ω×(ω×r))
+//!   correction of the accelerometer before fusion;
 //! * [`tilt`] — every tilt convention of the field in one place.
 //!
 //! ## Conventions (fixed for all of clino)
@@ -48,6 +51,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod compensate;
 pub mod filter;
 pub(crate) mod math;
 pub mod sample;

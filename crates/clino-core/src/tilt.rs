@@ -192,8 +192,13 @@ pub fn attitude_from_up(u: &Vec3) -> Option<Attitude> {
         return None;
     }
     let a = u / n;
-    let w = 1.0 + a.z;
-    let q = if w < 1e-12 {
+    // 1 + a_z, without cancellation when a_z ≈ −1: (a_x² + a_y²)/(1 − a_z)
+    let w = if a.z >= 0.0 {
+        1.0 + a.z
+    } else {
+        (a.x * a.x + a.y * a.y) / (1.0 - a.z)
+    };
+    let q = if w == 0.0 {
         nalgebra::Quaternion::new(0.0, 1.0, 0.0, 0.0)
     } else {
         let s = sqrt(2.0 * w);
@@ -229,7 +234,12 @@ mod tests {
 
     #[test]
     fn roll_pitch_closed_form_any_heading() {
-        for &(r, p, y) in &[(0.1, 0.2, 0.0), (-2.5, 1.2, 1.0), (3.0, -1.4, -2.9), (0.0, 0.0, 0.5)] {
+        for &(r, p, y) in &[
+            (0.1, 0.2, 0.0),
+            (-2.5, 1.2, 1.0),
+            (3.0, -1.4, -2.9),
+            (0.0, 0.0, 0.5),
+        ] {
             let t = RollPitch::from_attitude(&zyx(r, p, y));
             assert_relative_eq!(t.roll, r, epsilon = 1e-12);
             assert_relative_eq!(t.pitch, p, epsilon = 1e-12);
@@ -289,14 +299,25 @@ mod tests {
             assert_relative_eq!(inclination(&h), alpha, epsilon = 1e-12);
             // the split reproduces q: q = q_psi * q_t
             let n = (h.w * h.w + h.k * h.k).sqrt();
-            let qpsi = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(h.w / n, 0.0, 0.0, h.k / n));
+            let qpsi = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                h.w / n,
+                0.0,
+                0.0,
+                h.k / n,
+            ));
             assert!((qpsi * qh.quaternion()).angle_to(&h) < 1e-12);
         }
     }
 
     #[test]
     fn inclination_matches_both_closed_forms() {
-        for &(r, p) in &[(0.0, 0.0), (0.3, 0.4), (1.5, -0.2), (3.0, 0.1), (0.0, FRAC_PI_2)] {
+        for &(r, p) in &[
+            (0.0, 0.0),
+            (0.3, 0.4),
+            (1.5, -0.2),
+            (3.0, 0.1),
+            (0.0, FRAC_PI_2),
+        ] {
             let q = zyx(r, p, 0.7);
             let direct = (r.cos() * p.cos()).clamp(-1.0, 1.0).acos();
             assert_relative_eq!(inclination(&q), direct, epsilon = 1e-12);

@@ -106,6 +106,9 @@ mod tests {
             .in_file("rec.csv")
             .at_line(12)
             .at_column("acc_x_m_s2");
-        assert_eq!(e.to_string(), "rec.csv:12: column 'acc_x_m_s2': not a number: 'abc'");
+        assert_eq!(
+            e.to_string(),
+            "rec.csv:12: column 'acc_x_m_s2': not a number: 'abc'"
+        );
     }
 }

@@ -9,7 +9,10 @@
 //! * [`demo`] — the built-in demonstration (embedded data, no files);
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
-//! * [`sim`] — truth trajectories and simulated sensors.
+//! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
+//! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
+//!   cross-coupling, Allan deviation).
+//! * [`smooth`] — offline (forward–backward) tilt for whole recordings.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
 //! frame, Hamilton scalar-first quaternions rotating body to navigation,
@@ -18,6 +21,7 @@
 
 pub use clino_core as core;
 
+pub mod bench;
 pub mod demo;
 pub mod error;
 pub mod eval;
@@ -25,5 +29,6 @@ pub mod fusion;
 pub mod io;
 pub mod report;
 pub mod sim;
+pub mod smooth;
 
 pub use error::{Error, ErrorKind, Result};

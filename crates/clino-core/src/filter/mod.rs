@@ -6,6 +6,7 @@
 //! | [`Complementary`] | C_out = (1 − k)·C_gyro + k·C_acc on direction-cosine matrices | same paper, eq 5 |
 //! | [`Mahony`] | proportional-integral correction of the rate, gyro-bias integral | Mahony, Hamel, Pflimlin, IEEE TAC 53(5), 2008 |
 //! | [`Madgwick`] | gradient-descent step towards the accelerometer direction | Madgwick, Harrison, Vaidyanathan, ICORR 2011 |
+//! | [`Dynamic`] | clino's own: bounded-velocity tilt loop with bias, rest and rate adaptation | this crate ([`dynamic`]) |
 //!
 //! Every filter follows the same contract ([`AttitudeFilter`]):
 //!
@@ -19,11 +20,13 @@
 //! * nothing allocates, nothing panics.
 
 mod complementary;
+pub mod dynamic;
 mod madgwick;
 mod mahony;
 mod poisson;
 
 pub use complementary::Complementary;
+pub use dynamic::{Dynamic, DynamicParams};
 pub use madgwick::Madgwick;
 pub use mahony::Mahony;
 pub use poisson::{Integrator, Poisson};
@@ -93,6 +96,7 @@ pub(crate) fn good_dt(dt: f64) -> bool {
 /// The exact rotation-vector step: q ⊗ exp(φ/2) for the body rotation vector
 /// φ = ω·dt (rate constant over the step). Uses the Taylor form of sin(x)/x
 /// below 1e-4 rad so it stays exact near zero rate.
+#[allow(dead_code)] // used by the dynamic filter
 #[inline(always)]
 pub(crate) fn rotate_body(q: &Attitude, phi: Vec3) -> Attitude {
     let a2 = phi.norm_squared();

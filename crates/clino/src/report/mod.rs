@@ -107,10 +107,18 @@ fn bounds(series: &[Series], log_x: bool, log_y: bool) -> ((f64, f64), (f64, f64
             return if log { (0.1, 10.0) } else { (0.0, 1.0) };
         }
         if log {
-            if r.1 <= r.0 { (r.0 / 2.0, r.0 * 2.0) } else { (r.0 / 1.2, r.1 * 1.2) }
+            if r.1 <= r.0 {
+                (r.0 / 2.0, r.0 * 2.0)
+            } else {
+                (r.0 / 1.2, r.1 * 1.2)
+            }
         } else {
             let span = r.1 - r.0;
-            let pad = if span > 0.0 { 0.05 * span } else { 0.5 * r.0.abs().max(1.0) };
+            let pad = if span > 0.0 {
+                0.05 * span
+            } else {
+                0.5 * r.0.abs().max(1.0)
+            };
             (r.0 - pad, r.1 + pad)
         }
     };
@@ -183,12 +191,26 @@ where
         }};
     }
     match (spec.log_x, spec.log_y) {
-        (false, false) => body!(builder.build_cartesian_2d(x0..x1, y0..y1).map_err(|x| e(&x))?),
-        (true, false) => body!(builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(|x| e(&x))?),
-        (false, true) => body!(builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(|x| e(&x))?),
-        (true, true) => body!(builder
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|x| e(&x))?),
+        (false, false) => body!(
+            builder
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|x| e(&x))?
+        ),
+        (true, false) => body!(
+            builder
+                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .map_err(|x| e(&x))?
+        ),
+        (false, true) => body!(
+            builder
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(|x| e(&x))?
+        ),
+        (true, true) => body!(
+            builder
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(|x| e(&x))?
+        ),
     }
     root.present().map_err(|x| e(&x))?;
     Ok(())
@@ -202,12 +224,21 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("clino-report-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let s = vec![
-            Series::line("a", (1..50).map(|i| (i as f64, (i as f64).powf(-0.5))).collect()),
+            Series::line(
+                "a",
+                (1..50).map(|i| (i as f64, (i as f64).powf(-0.5))).collect(),
+            ),
             Series::markers("b", vec![(2.0, 0.3), (5.0, f64::NAN)]),
         ];
         for (name, log) in [("p.svg", false), ("p.png", true)] {
             let path = dir.join(name);
-            let spec = PlotSpec { title: "t".into(), x_label: "τ (s)".into(), y_label: "σ".into(), log_x: log, log_y: log };
+            let spec = PlotSpec {
+                title: "t".into(),
+                x_label: "τ (s)".into(),
+                y_label: "σ".into(),
+                log_x: log,
+                log_y: log,
+            };
             line_plot(&path, &spec, &s).unwrap();
             assert!(std::fs::metadata(&path).unwrap().len() > 1000);
         }

@@ -1,0 +1,661 @@
+//! The dynamic inclinometer filter: clino's own 6-D tilt filter.
+//!
+//! # Idea
+//!
+//! An accelerometer tilt is wrong by a_ext/g while the mount accelerates. But
+//! a mount that accelerates does not fly away: its **velocity stays bounded**
+//! (a hand, an excavator arm, a vehicle on a slope, a drill string). So the
+//! horizontal specific force, rotated into the navigation frame with the
+//! current attitude estimate and integrated over time, is a velocity that must
+//! keep returning to zero — unless the attitude is wrong, in which case it
+//! grows at g times the tilt error. The filter therefore does not compare the
+//! accelerometer with gravity sample by sample (as Mahony and Madgwick do);
+//! it compares the *integrated* horizontal specific force with "bounded
+//! velocity". External accelerations, which are derivatives of a bounded
+//! velocity, are then attenuated once more than in a first-order
+//! complementary filter: an oscillation of velocity amplitude V at angular
+//! frequency ω leaves a tilt error of order k_θ·V/(g·ω) instead of p·V/g.
+//!
+//! # State
+//!
+//! * `q` — attitude (body → ENU), propagated with the exact rotation-vector step;
+//! * `b` — gyro bias, rad/s (body);
+//! * `v` — horizontal "velocity residual", m/s (east, north): the integral of the
+//!   horizontal specific force in the navigation frame, leaking to zero.
+//!
+//! # Equations (per sample, dt)
+//!
+//! ```text
+//! ω  = ω_meas − b
+//! q  ← q ⊗ exp(ω·dt/2)
+//! f  = q ⊗ f_meas ⊗ q*                       (specific force, ENU)
+//! v  ← v + (f_E, f_N)·dt − k_u·v·dt
+//! c  = (k_θ/g)·(v_N, −v_E, 0)·dt             (nav-frame tilt correction, rad)
+//! q  ← exp(c/2) ⊗ q
+//! b  ← b − (k_b/k_θ)·(q* ⊗ c ⊗ q)
+//! ```
+//!
+//! Linearised per horizontal axis with U = v/g the loop is
+//! s³ + k_u·s² + k_θ·s + k_b = 0. With k_u = a·p, k_θ = b·p², k_b = c·p³ all
+//! three poles scale with one bandwidth p (rad/s); the defaults
+//! (a, b, c) = (1.5, 3, 0.3) place them at about −0.11p and −0.69p ± 1.47p·i
+//! (a well-damped pair and a slow real pole for the bias).
+//!
+//! # Adaptation (from the physics, not from any data set)
+//!
+//! * **Rotation rate.** A MEMS gyro's scale-factor and misalignment errors
+//!   (0.1–1 %) make its drift grow with the rate: at 10 rad/s, 0.5 % is
+//!   0.05 rad/s, far above any bias. The best crossover of a complementary
+//!   loop is p* = √(drift·g/V), so the bandwidth is raised as
+//!   p = p₀·√(1 + |ω̄|/ω_s), with |ω̄| the low-passed rate magnitude and ω_s
+//!   the rate at which scale-factor drift equals the design drift
+//!   (bias-level drift / scale-factor error ≈ 0.01 rad/s / 0.5 % = 2 rad/s).
+//!   The bias gain is not raised with it (scale-factor error is not bias).
+//! * **Rest.** When the RMS deviations of the rate and of the specific force
+//!   from their 0.5-s low-passed values, and the low-passed rate itself (less
+//!   the bias), have stayed under thresholds for `rest_time_s`, the mount
+//!   is at rest: its velocity is zero and its specific force is gravity. The
+//!   tilt is then pulled straight to the accelerometer at
+//!   `rest_bandwidth_rad_s` (globally convergent, like Mahony's correction),
+//!   the velocity residual is drained, the bias is taken from the low-passed
+//!   gyro (time constant `rest_bias_tau_s`), and motion bias learning pauses.
+//!   This is the zero-velocity / zero-rate update of strapdown navigation.
+//! * **Start.** The attitude starts from the first valid accelerometer sample
+//!   and the bandwidth starts at `start_bandwidth_rad_s`, falling linearly to
+//!   p over `start_time_s`, so a start in motion converges in seconds.
+//!
+//! Everything is continuous-time: the defaults mean the same thing at 50 Hz
+//! and at 1 kHz. Nothing allocates, nothing can panic; a non-finite sample is
+//! rejected without touching the state.
+
+use super::{AttitudeFilter, Step, finite3, good_dt, init_from_acc};
+use crate::math::{cos, exp, sin, sqrt};
+use crate::{Attitude, G0, Vec3};
+use nalgebra::Quaternion;
+
+/// Tuning of [`Dynamic`]; every field has a unit and a physical meaning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DynamicParams {
+    /// Base loop bandwidth p₀, rad/s (1/p₀ is the time over which the
+    /// accelerometer corrects the tilt in slow motion). Default 0.15 rad/s
+    /// (≈ 6.7 s): the optimum √(drift·g/V) for a well-calibrated MEMS gyro
+    /// (drift ≈ 0.2°/s) and hand or machine velocities of ≈ 1 m/s.
+    pub bandwidth_rad_s: f64,
+    /// Velocity-leak factor a (k_u = a·p). Default 1.5.
+    pub velocity_damping: f64,
+    /// Tilt-gain factor b (k_θ = b·p²). Default 3.
+    pub tilt_gain: f64,
+    /// Bias-gain factor c (k_b = c·p₀²·p). Default 0.3: the bias pole is the slowest.
+    pub bias_gain: f64,
+    /// ω_s, rad/s: rotation rate at which the loop bandwidth is √2·p₀. Default 2 rad/s
+    /// (≈ 0.01 rad/s design drift / 0.5 % scale-factor error).
+    pub scale_rate_rad_s: f64,
+    /// Rest threshold on the RMS deviation of ω from its low-passed value ω̄
+    /// (mean square low-passed over `lowpass_tau_s`) and on |ω̄ − b|, rad/s.
+    /// Default 2°/s (MEMS noise is well below 0.5°/s RMS even at 1 kHz; hand
+    /// tremor, walking and engines exceed 2°/s).
+    pub rest_gyr_rad_s: f64,
+    /// Rest threshold on |ω − b| before the first rest has been seen, rad/s.
+    /// Default 20°/s: the zero-rate tolerance of an uncalibrated MPU6050, so the
+    /// first rest after power-on is recognised whatever the initial bias.
+    pub rest_gyr_initial_rad_s: f64,
+    /// Rest threshold on the RMS deviation of the specific force from its
+    /// low-passed value, m/s². Default 0.5 m/s² (≈ 50 mg; MPU6050 noise is
+    /// 0.12 m/s² RMS per axis even at 1 kHz).
+    pub rest_acc_m_s2: f64,
+    /// Time the thresholds must hold before rest is declared, s. Default 1.5 s.
+    pub rest_time_s: f64,
+    /// Rate at which the tilt is pulled to the accelerometer at rest, rad/s.
+    /// Default 1 rad/s (1 s): averages accelerometer noise over a second while
+    /// converging from any initial error within seconds once the mount is still.
+    pub rest_bandwidth_rad_s: f64,
+    /// Time constant of bias learning at rest, s. Default 3 s.
+    pub rest_bias_tau_s: f64,
+    /// Time constant of the low-pass filters used by rest detection and by the
+    /// rate magnitude |ω̄|, s. Default 0.5 s.
+    pub lowpass_tau_s: f64,
+    /// Largest gyro bias the filter will believe, rad/s (per axis). Default 20°/s.
+    pub bias_max_rad_s: f64,
+    /// Bandwidth at start-up, rad/s. Default 1 rad/s.
+    pub start_bandwidth_rad_s: f64,
+    /// Time over which the start-up bandwidth falls to p, s. Default 3 s.
+    pub start_time_s: f64,
+    /// Local gravity, m/s². Default 9.80665.
+    pub gravity_m_s2: f64,
+}
+
+impl Default for DynamicParams {
+    fn default() -> Self {
+        Self {
+            bandwidth_rad_s: 0.15,
+            velocity_damping: 1.5,
+            tilt_gain: 3.0,
+            bias_gain: 0.3,
+            scale_rate_rad_s: 2.0,
+            rest_gyr_rad_s: 2f64.to_radians(),
+            rest_gyr_initial_rad_s: 20f64.to_radians(),
+            rest_acc_m_s2: 0.5,
+            rest_time_s: 1.5,
+            rest_bandwidth_rad_s: 1.0,
+            rest_bias_tau_s: 3.0,
+            lowpass_tau_s: 0.5,
+            bias_max_rad_s: 20f64.to_radians(),
+            start_bandwidth_rad_s: 1.0,
+            start_time_s: 3.0,
+            gravity_m_s2: G0,
+        }
+    }
+}
+
+/// clino's dynamic inclinometer filter (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub struct Dynamic {
+    params: DynamicParams,
+    inv: Reciprocals,
+    q: Attitude,
+    bias: Vec3,
+    vel: [f64; 2],
+    gyr_lp: Vec3,
+    acc_lp: Vec3,
+    gyr_dev: f64,
+    acc_dev: f64,
+    rate_lp: f64,
+    still_time: f64,
+    rest: bool,
+    rested_once: bool,
+    time: f64,
+    initialised: bool,
+}
+
+impl Default for Dynamic {
+    fn default() -> Self {
+        Self::new(DynamicParams::default())
+    }
+}
+
+/// Reciprocals of the parameters, and the last dt's low-pass coefficient
+/// (recordings have a constant rate: exp is evaluated once, not per sample).
+#[derive(Clone, Copy, Debug)]
+struct Reciprocals {
+    lowpass_tau: f64,
+    scale_rate: f64,
+    gravity: f64,
+    tilt_gain: f64,
+    rest_bias_tau: f64,
+    start_time: f64,
+    dt: f64,
+    k_lp: f64,
+    k_rest: f64,
+}
+
+impl Reciprocals {
+    fn new(p: &DynamicParams) -> Self {
+        Self {
+            lowpass_tau: 1.0 / p.lowpass_tau_s,
+            scale_rate: 1.0 / p.scale_rate_rad_s,
+            gravity: 1.0 / p.gravity_m_s2,
+            tilt_gain: 1.0 / p.tilt_gain,
+            rest_bias_tau: 1.0 / p.rest_bias_tau_s,
+            start_time: 1.0 / p.start_time_s,
+            dt: f64::NAN,
+            k_lp: 0.0,
+            k_rest: 0.0,
+        }
+    }
+}
+
+/// (1, c/2) ⊗ q for the horizontal navigation-frame rotation vector
+/// c = (cx, cy, 0): the first-order form of exp(c/2) ⊗ q (not normalised).
+#[inline(always)]
+fn nav_tilt_step(q: &Quaternion<f64>, cx: f64, cy: f64) -> Quaternion<f64> {
+    let (qw, qx, qy, qz) = (q.w, q.i, q.j, q.k);
+    Quaternion::new(
+        qw - 0.5 * (cx * qx + cy * qy),
+        qx + 0.5 * (cx * qw + cy * qz),
+        qy + 0.5 * (cy * qw - cx * qz),
+        qz + 0.5 * (cx * qy - cy * qx),
+    )
+}
+
+/// 1 − exp(−x) without calling exp for the small x of a per-sample filter.
+#[inline(always)]
+fn one_minus_exp_neg(x: f64) -> f64 {
+    if x < 0.02 {
+        x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0)))
+    } else {
+        1.0 - exp(-x)
+    }
+}
+
+impl Dynamic {
+    /// A new, uninitialised filter.
+    pub fn new(params: DynamicParams) -> Self {
+        Self {
+            params,
+            inv: Reciprocals::new(&params),
+            q: Attitude::identity(),
+            bias: Vec3::zeros(),
+            vel: [0.0; 2],
+            gyr_lp: Vec3::zeros(),
+            acc_lp: Vec3::zeros(),
+            gyr_dev: 0.0,
+            acc_dev: 0.0,
+            rate_lp: 0.0,
+            still_time: 0.0,
+            rest: false,
+            rested_once: false,
+            time: 0.0,
+            initialised: false,
+        }
+    }
+
+    /// The tuning in use.
+    pub fn params(&self) -> &DynamicParams {
+        &self.params
+    }
+
+    /// Change the tuning (the state is kept).
+    pub fn set_params(&mut self, params: DynamicParams) {
+        self.params = params;
+        self.inv = Reciprocals::new(&params);
+    }
+
+    /// True while the filter considers the mount at rest.
+    pub fn at_rest(&self) -> bool {
+        self.rest
+    }
+
+    /// Set the gyro-bias estimate (rad/s), e.g. from a previous run or a calibration.
+    pub fn set_gyro_bias(&mut self, bias: Vec3) {
+        if finite3(&bias) {
+            let m = self.params.bias_max_rad_s;
+            self.bias = bias.map(|b| b.clamp(-m, m));
+        }
+    }
+
+    /// Start from a known attitude (skips accelerometer initialisation).
+    pub fn set_attitude(&mut self, q: Attitude) {
+        self.q = q;
+        if !self.initialised {
+            self.initialised = true;
+            self.time = 0.0;
+        }
+    }
+
+    /// The current horizontal velocity residual (east, north), m/s.
+    pub fn velocity_residual(&self) -> [f64; 2] {
+        self.vel
+    }
+
+    fn bandwidth(&self) -> f64 {
+        let p = &self.params;
+        let mut bw = p.bandwidth_rad_s * sqrt(1.0 + self.rate_lp * self.inv.scale_rate);
+        if self.time < p.start_time_s && p.start_bandwidth_rad_s > bw {
+            let f = self.time * self.inv.start_time;
+            bw = p.start_bandwidth_rad_s * (1.0 - f) + bw * f;
+        }
+        bw
+    }
+}
+
+impl AttitudeFilter for Dynamic {
+    fn name(&self) -> &'static str {
+        "dynamic"
+    }
+
+    fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
+        if !(finite3(&gyr) && finite3(&acc) && good_dt(dt)) {
+            return Step::Rejected;
+        }
+        if !self.initialised {
+            return match init_from_acc(&acc) {
+                Some(q) => {
+                    self.q = q;
+                    self.gyr_lp = gyr;
+                    self.acc_lp = acc;
+                    self.initialised = true;
+                    self.time = 0.0;
+                    Step::Initialised
+                }
+                None => Step::Waiting,
+            };
+        }
+        let p = self.params;
+        self.time += dt;
+
+        // --- rest detection on 0.5-s low-passed rate and specific force
+        if dt != self.inv.dt {
+            self.inv.dt = dt;
+            self.inv.k_lp = one_minus_exp_neg(dt * self.inv.lowpass_tau);
+            self.inv.k_rest = one_minus_exp_neg(dt * self.inv.rest_bias_tau);
+        }
+        let k_lp = self.inv.k_lp;
+        self.gyr_lp += (gyr - self.gyr_lp) * k_lp;
+        self.acc_lp += (acc - self.acc_lp) * k_lp;
+        // mean-square deviations from the low-passed signals (noise averages out,
+        // so one noisy sample cannot veto rest at high sample rates)
+        self.gyr_dev += ((gyr - self.gyr_lp).norm_squared() - self.gyr_dev) * k_lp;
+        self.acc_dev += ((acc - self.acc_lp).norm_squared() - self.acc_dev) * k_lp;
+        let w = gyr - self.bias;
+        let w2 = w.norm_squared();
+        let abs_thr = if self.rested_once {
+            p.rest_gyr_rad_s
+        } else {
+            p.rest_gyr_initial_rad_s
+        };
+        let still = self.gyr_dev < p.rest_gyr_rad_s * p.rest_gyr_rad_s
+            && self.acc_dev < p.rest_acc_m_s2 * p.rest_acc_m_s2
+            && (self.gyr_lp - self.bias).norm_squared() < abs_thr * abs_thr;
+        self.still_time = if still { self.still_time + dt } else { 0.0 };
+        self.rest = self.still_time > p.rest_time_s;
+        if self.rest {
+            self.rested_once = true;
+        }
+        let wn = sqrt(w2);
+        self.rate_lp += (wn - self.rate_lp) * k_lp;
+
+        // --- strapdown: exact rotation-vector step
+        let half = 0.5 * wn * dt;
+        let (c, s) = if half < 0.1 {
+            let h2 = half * half;
+            (
+                1.0 - h2 * (0.5 - h2 * (1.0 / 24.0 - h2 / 720.0)),
+                0.5 * dt * (1.0 - h2 * (1.0 / 6.0 - h2 * (1.0 / 120.0 - h2 / 5040.0))),
+            )
+        } else {
+            (cos(half), sin(half) / wn)
+        };
+        let q = self.q.quaternion();
+        let q = q * Quaternion::new(c, s * w.x, s * w.y, s * w.z);
+
+        // --- first two rows of the body-to-ENU matrix, specific force in ENU
+        let (qw, qx, qy, qz) = (q.w, q.i, q.j, q.k);
+        let r00 = 1.0 - 2.0 * (qy * qy + qz * qz);
+        let r01 = 2.0 * (qx * qy - qw * qz);
+        let r02 = 2.0 * (qx * qz + qw * qy);
+        let r10 = 2.0 * (qx * qy + qw * qz);
+        let r11 = 1.0 - 2.0 * (qx * qx + qz * qz);
+        let r12 = 2.0 * (qy * qz - qw * qx);
+        let r20 = 2.0 * (qx * qz - qw * qy);
+        let r21 = 2.0 * (qy * qz + qw * qx);
+        let r22 = 1.0 - 2.0 * (qx * qx + qy * qy);
+        let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
+        let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
+
+        if acc.x == 0.0 && acc.y == 0.0 && acc.z == 0.0 {
+            // no specific force at all (dropout or free fall): gyro only
+            self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
+            return Step::GyroOnly;
+        }
+
+        let kc;
+        let mut kb_over_kt = 0.0;
+        if self.rest {
+            // At rest the specific force *is* gravity: pull the tilt straight to
+            // it (rate `rest_bandwidth_rad_s`, global convergence like Mahony's)
+            // and drain the velocity residual, which must be zero.
+            let fu = r20 * acc.x + r21 * acc.y + r22 * acc.z;
+            let fnorm = sqrt(fe * fe + fnn * fnn + fu * fu);
+            let decay = 1.0 - one_minus_exp_neg(p.rest_bandwidth_rad_s * 4.0 * dt);
+            self.vel[0] *= decay;
+            self.vel[1] *= decay;
+            let k = p.rest_bandwidth_rad_s * dt / fnorm;
+            kc = (k * fnn, -k * fe);
+        } else {
+            // --- gains of the bounded-velocity loop
+            let bw = self.bandwidth();
+            let p0 = p.bandwidth_rad_s;
+            let ku = p.velocity_damping * bw;
+            let kt = p.tilt_gain * bw * bw;
+            kb_over_kt = p.bias_gain * p0 * p0 * self.inv.tilt_gain / bw;
+            // --- velocity residual and tilt correction
+            let decay = 1.0 - one_minus_exp_neg(ku * dt);
+            self.vel[0] = (self.vel[0] + fe * dt) * decay;
+            self.vel[1] = (self.vel[1] + fnn * dt) * decay;
+            let k = kt * self.inv.gravity * dt;
+            kc = (k * self.vel[1], -k * self.vel[0]);
+        }
+        let (cx, cy) = kc;
+        let q = nav_tilt_step(&q, cx, cy);
+        self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
+
+        // --- bias: motion learning through the loop (c mapped to the body
+        // frame with Rᵀ), rest learning from the low-passed gyro
+        if kb_over_kt > 0.0 {
+            self.bias.x -= (r00 * cx + r10 * cy) * kb_over_kt;
+            self.bias.y -= (r01 * cx + r11 * cy) * kb_over_kt;
+            self.bias.z -= (r02 * cx + r12 * cy) * kb_over_kt;
+        }
+        if self.rest {
+            self.bias += (self.gyr_lp - self.bias) * self.inv.k_rest;
+        }
+        let m = p.bias_max_rad_s;
+        self.bias = self.bias.map(|b| b.clamp(-m, m));
+        Step::Fused
+    }
+
+    fn attitude(&self) -> Attitude {
+        self.q
+    }
+
+    fn is_initialised(&self) -> bool {
+        self.initialised
+    }
+
+    fn reset(&mut self) {
+        *self = Self::new(self.params);
+    }
+
+    fn gyro_bias(&self) -> Vec3 {
+        self.bias
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::filter::Mahony;
+    use crate::tilt::up_in_body;
+    use nalgebra::{UnitQuaternion, Vector3};
+
+    /// Deterministic Gaussian noise (LCG + Box–Muller), so tests need no RNG crate.
+    struct Noise(u64);
+    impl Noise {
+        fn uniform(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        }
+        fn gauss(&mut self) -> f64 {
+            let (u1, u2) = (self.uniform(), self.uniform());
+            (-2.0 * u1.ln()).sqrt() * (2.0 * core::f64::consts::PI * u2).cos()
+        }
+        fn vec(&mut self, s: f64) -> Vec3 {
+            Vector3::new(self.gauss(), self.gauss(), self.gauss()) * s
+        }
+    }
+
+    /// Tilt error between estimate and truth, rad (BROAD's inclination error).
+    fn tilt_err(est: &Attitude, truth: &Attitude) -> f64 {
+        let e = est * truth.inverse();
+        2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()
+    }
+
+    /// A hand-like motion: attitude oscillating about all axes, position
+    /// oscillating with ±0.3 m (velocity ≈ 1 m/s, accelerations up to ≈ 1.2 g).
+    fn truth(t: f64) -> (Attitude, Vec3) {
+        let tau = 2.0 * core::f64::consts::PI;
+        let q = UnitQuaternion::from_euler_angles(
+            0.35 * (tau * 0.4 * t).sin(),
+            0.25 * (tau * 0.27 * t + 1.0).sin(),
+            1.5 * (tau * 0.1 * t).sin(),
+        );
+        // nav acceleration of x = 0.3 sin(2π·0.6 t), y = 0.2 sin(2π·0.9 t + 0.5), z = 0.1 sin(2π·0.5 t)
+        let a = Vector3::new(
+            -0.3 * (tau * 0.6).powi(2) * (tau * 0.6 * t).sin(),
+            -0.2 * (tau * 0.9).powi(2) * (tau * 0.9 * t + 0.5).sin(),
+            -0.1 * (tau * 0.5).powi(2) * (tau * 0.5 * t).sin(),
+        );
+        (q, a)
+    }
+
+    fn body_rate(t: f64) -> Vec3 {
+        let d = 1e-5;
+        (truth(t - d).0.inverse() * truth(t + d).0).scaled_axis() / (2.0 * d)
+    }
+
+    /// Run a filter on the simulated motion with gyro bias and noise; RMS tilt error in degrees
+    /// over t > 20 s (after the initial rest of 10 s and 10 s of motion).
+    fn run(f: &mut dyn AttitudeFilter, rate_hz: f64, seconds: f64) -> f64 {
+        let dt = 1.0 / rate_hz;
+        let bias = Vector3::new(0.4, -0.3, 0.2) * core::f64::consts::PI / 180.0;
+        let mut noise = Noise(7);
+        let (mut s, mut n) = (0.0, 0);
+        let q0 = truth(0.0).0;
+        let steps = (seconds * rate_hz) as usize;
+        for k in 0..steps {
+            let t = k as f64 * dt;
+            // first 10 s at rest in the initial attitude
+            let (q, a, w) = if t < 10.0 {
+                (q0, Vector3::zeros(), Vector3::zeros())
+            } else {
+                let (q, a) = truth(t - 10.0);
+                (q, a, body_rate(t - 10.0))
+            };
+            let f_b = q.inverse_transform_vector(&(a + Vector3::new(0.0, 0.0, 9.80665)));
+            let gyr = w + bias + noise.vec(0.005f64.to_radians() * rate_hz.sqrt());
+            let acc = f_b + noise.vec(400e-6 * 9.81 * rate_hz.sqrt());
+            f.update(gyr, acc, dt);
+            if t > 20.0 {
+                let e = tilt_err(&f.attitude(), &q);
+                s += e * e;
+                n += 1;
+            }
+        }
+        (s / n as f64).sqrt().to_degrees()
+    }
+
+    #[test]
+    fn tilt_step_is_the_first_order_nav_rotation() {
+        let q = UnitQuaternion::from_euler_angles(0.4, -0.3, 2.2);
+        let (cx, cy) = (1e-4, -2e-4);
+        let got = nav_tilt_step(q.quaternion(), cx, cy);
+        let exact = UnitQuaternion::from_scaled_axis(Vector3::new(cx, cy, 0.0)) * q;
+        assert!((got - exact.quaternion()).norm() < 1e-7);
+    }
+
+    #[test]
+    fn holds_tilt_and_learns_bias_at_rest() {
+        let truth = UnitQuaternion::from_euler_angles(0.35, -0.17, 0.0);
+        let f_b = up_in_body(&truth) * G0;
+        let bias = Vector3::new(0.5, -0.3, 0.2) * core::f64::consts::PI / 180.0;
+        let mut noise = Noise(3);
+        let mut f = Dynamic::default();
+        let dt = 0.01;
+        let (sigma_a, mut s2, mut n) = (0.04, 0.0, 0);
+        for k in 0..6000 {
+            f.update(bias + noise.vec(0.0005), f_b + noise.vec(sigma_a), dt);
+            if k >= 4000 {
+                s2 += tilt_err(&f.attitude(), &truth).powi(2);
+                n += 1;
+            }
+        }
+        assert!(f.at_rest());
+        // At rest the tilt is a first-order low-pass (rate k = 1 rad/s) of the
+        // accelerometer: per-axis noise (σ_a/g)·√(k·dt/2), two axes → ×√2.
+        let expected = (sigma_a / G0) * (1.0 * dt / 2.0f64).sqrt() * 2f64.sqrt();
+        let rms = (s2 / n as f64).sqrt();
+        assert!(
+            rms < 1.5 * expected && rms > 0.5 * expected,
+            "tilt noise {rms} vs {expected}"
+        );
+        let b_err = (f.gyro_bias() - bias).norm().to_degrees();
+        assert!(b_err < 0.01, "bias error {b_err}°/s");
+    }
+
+    #[test]
+    fn rejects_external_acceleration_far_better_than_mahony() {
+        let e_dyn = run(&mut Dynamic::default(), 200.0, 80.0);
+        let e_mah = run(&mut Mahony::default(), 200.0, 80.0);
+        assert!(e_dyn < 0.6, "dynamic {e_dyn}°");
+        assert!(e_dyn < e_mah / 3.0, "dynamic {e_dyn}° vs mahony {e_mah}°");
+    }
+
+    #[test]
+    fn defaults_mean_the_same_at_other_sample_rates() {
+        let e100 = run(&mut Dynamic::default(), 100.0, 60.0);
+        let e1000 = run(&mut Dynamic::default(), 1000.0, 60.0);
+        assert!(
+            (e100 - e1000).abs() < 0.3 * e100.max(e1000),
+            "{e100} vs {e1000}"
+        );
+    }
+
+    #[test]
+    fn converges_from_a_large_initial_error() {
+        let truth = UnitQuaternion::from_euler_angles(0.1, 0.2, 0.0);
+        let f_b = up_in_body(&truth) * G0;
+        let mut f = Dynamic::default();
+        f.set_attitude(UnitQuaternion::from_euler_angles(1.3, -0.4, 0.5)); // ≈ 80° off
+        let mut t = 0.0;
+        while t < 10.0 {
+            f.update(Vector3::zeros(), f_b, 0.005);
+            t += 0.005;
+        }
+        let err = tilt_err(&f.attitude(), &truth).to_degrees();
+        assert!(err < 0.5, "after 10 s: {err}°");
+    }
+
+    #[test]
+    fn nan_and_zero_samples_do_not_touch_the_state() {
+        let mut f = Dynamic::default();
+        assert_eq!(
+            f.update(Vector3::zeros(), Vector3::zeros(), 0.01),
+            Step::Waiting
+        );
+        assert_eq!(
+            f.update(Vector3::zeros(), Vector3::new(0.0, 0.0, 9.8), 0.01),
+            Step::Initialised
+        );
+        for _ in 0..10 {
+            f.update(
+                Vector3::new(0.01, 0.0, 0.0),
+                Vector3::new(0.0, 0.3, 9.8),
+                0.01,
+            );
+        }
+        let (q, b, v) = (f.attitude(), f.gyro_bias(), f.velocity_residual());
+        assert_eq!(
+            f.update(Vector3::new(f64::NAN, 0.0, 0.0), Vector3::z(), 0.01),
+            Step::Rejected
+        );
+        assert_eq!(
+            f.update(
+                Vector3::zeros(),
+                Vector3::new(0.0, f64::INFINITY, 0.0),
+                0.01
+            ),
+            Step::Rejected
+        );
+        assert_eq!(
+            f.update(Vector3::zeros(), Vector3::z(), -0.01),
+            Step::Rejected
+        );
+        assert_eq!(
+            f.update(Vector3::zeros(), Vector3::z(), f64::NAN),
+            Step::Rejected
+        );
+        assert_eq!(
+            (f.attitude(), f.gyro_bias(), f.velocity_residual()),
+            (q, b, v)
+        );
+        assert_eq!(
+            f.update(Vector3::new(0.1, 0.0, 0.0), Vector3::zeros(), 0.01),
+            Step::GyroOnly
+        );
+        assert!(f.attitude().angle_to(&q) > 0.0 && f.attitude().angle_to(&q) < 0.01);
+        assert!(f.attitude().quaternion().norm().is_finite());
+    }
+}

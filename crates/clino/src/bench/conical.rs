@@ -1,0 +1,267 @@
+//! Frequency response under the conical motion about z (tracking performance).
+//!
+//! Source: Liu, Cai, Yang, Zhang, "Testing of a MEMS Dynamic Inclinometer
+//! Using the Stewart Platform", Sensors 2019, sections 3 and 4.1: at each
+//! frequency the gyro, accelerometer and tilt outputs are fitted by a sine at
+//! the cone frequency, turned into sensitivities (eqs 6, 7, 8, 11) and
+//! plotted as 20·log10 S against frequency.
+//!
+//! [`analyze_conical`] works on any record (simulated or from the lab);
+//! [`run_conical`] simulates the whole bench: cone → IMU model → filter →
+//! analysis, one frequency after another.
+
+use super::filters::{FilterFactory, filter_factory, run_filter};
+use super::sensitivity as sens;
+use super::sinefit::fit3;
+use crate::Result;
+use crate::sim::ImuModel;
+use crate::sim::motion::Conical;
+use crate::{Error, ErrorKind};
+use clino_core::tilt::{QuatTilt, ZxyTilt};
+use clino_core::{Attitude, ImuSample};
+use serde::Serialize;
+
+/// Output channels of an inclinometer under test (any may be missing).
+#[derive(Clone, Debug, Default)]
+pub struct Channels {
+    /// Time stamps, s.
+    pub t_s: Vec<f64>,
+    /// Gyro x, rad/s.
+    pub gyr_x: Option<Vec<f64>>,
+    /// Gyro y, rad/s.
+    pub gyr_y: Option<Vec<f64>>,
+    /// Accelerometer x, m/s².
+    pub acc_x: Option<Vec<f64>>,
+    /// Accelerometer y, m/s².
+    pub acc_y: Option<Vec<f64>>,
+    /// Attitude output (tilt; heading is ignored).
+    pub attitude: Option<Vec<Attitude>>,
+}
+
+impl Channels {
+    /// Channels of IMU samples and the filter attitudes computed from them.
+    pub fn from_samples(samples: &[ImuSample], attitude: Option<Vec<Attitude>>) -> Self {
+        Self {
+            t_s: samples.iter().map(|s| s.t_s).collect(),
+            gyr_x: Some(samples.iter().map(|s| s.gyr_rad_s.x).collect()),
+            gyr_y: Some(samples.iter().map(|s| s.gyr_rad_s.y).collect()),
+            acc_x: Some(samples.iter().map(|s| s.acc_m_s2.x).collect()),
+            acc_y: Some(samples.iter().map(|s| s.acc_m_s2.y).collect()),
+            attitude,
+        }
+    }
+
+    /// The channels restricted to samples with `t_s` in [t0, t1).
+    pub fn window(&self, t0: f64, t1: f64) -> Self {
+        let idx: Vec<usize> = (0..self.t_s.len()).filter(|&i| self.t_s[i] >= t0 && self.t_s[i] < t1).collect();
+        let pick = |v: &Option<Vec<f64>>| v.as_ref().map(|v| idx.iter().map(|&i| v[i]).collect());
+        Self {
+            t_s: idx.iter().map(|&i| self.t_s[i]).collect(),
+            gyr_x: pick(&self.gyr_x),
+            gyr_y: pick(&self.gyr_y),
+            acc_x: pick(&self.acc_x),
+            acc_y: pick(&self.acc_y),
+            attitude: self.attitude.as_ref().map(|v| idx.iter().map(|&i| v[i]).collect()),
+        }
+    }
+}
+
+/// Sensitivities (dB) at one cone frequency; `None` where the record lacks the channel.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ConicalPoint {
+    /// Cone frequency, Hz.
+    pub freq_hz: f64,
+    /// Cone angle, degrees.
+    pub alpha_deg: f64,
+    /// Gyro x sensitivity, dB (eq 6).
+    pub gyro_x_db: Option<f64>,
+    /// Gyro y sensitivity, dB (eq 6).
+    pub gyro_y_db: Option<f64>,
+    /// Accelerometer x sensitivity, dB (eq 7).
+    pub accel_x_db: Option<f64>,
+    /// Accelerometer y sensitivity, dB (eq 7).
+    pub accel_y_db: Option<f64>,
+    /// Tilt sensitivity from the quaternion x component, dB (eq 8).
+    pub tilt_x_db: Option<f64>,
+    /// Tilt sensitivity from the quaternion y component, dB (eq 8).
+    pub tilt_y_db: Option<f64>,
+    /// Tilt sensitivity of the sin φ output (z-x-y set), dB (eq 11).
+    pub sin_phi_db: Option<f64>,
+    /// Tilt sensitivity of the tan θ output (z-x-y set), dB (eq 11).
+    pub tan_theta_db: Option<f64>,
+}
+
+/// Trend order removed from tilt outputs before fitting (quadratic: offset, drift, and its change).
+pub const TILT_TREND_ORDER: usize = 2;
+
+/// Sensitivities of `ch` under a cone of angle `alpha_rad` at `freq_hz`
+/// (three-parameter fits at the known frequency; offset removed from gyro and
+/// accelerometer, a quadratic trend from the tilt outputs).
+pub fn analyze_conical(ch: &Channels, alpha_rad: f64, freq_hz: f64, g_m_s2: f64) -> Result<ConicalPoint> {
+    if !(alpha_rad > 0.0 && alpha_rad < 1.5 && freq_hz > 0.0 && g_m_s2 > 0.0) {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("conical analysis: cone angle {alpha_rad} rad, frequency {freq_hz} Hz, g {g_m_s2}"),
+        ));
+    }
+    let t = &ch.t_s;
+    let w = 2.0 * std::f64::consts::PI * freq_hz;
+    let amp = |y: &Option<Vec<f64>>, p: usize| -> Result<Option<f64>> {
+        y.as_ref().map(|y| fit3(t, y, freq_hz, p).map(|f| f.amplitude)).transpose()
+    };
+    let db = |s: Option<f64>| s.map(sens::db);
+    let (mut tx, mut ty, mut sp, mut tt) = (None, None, None, None);
+    if let Some(att) = &ch.attitude {
+        if att.len() != t.len() {
+            return Err(Error::new(ErrorKind::InvalidInput, "attitude and time have different lengths"));
+        }
+        let qt: Vec<QuatTilt> = att.iter().map(QuatTilt::from_attitude).collect();
+        let z: Vec<ZxyTilt> = att.iter().map(ZxyTilt::from_attitude).collect();
+        let p = TILT_TREND_ORDER;
+        tx = Some(sens::quat_tilt(fit3(t, &qt.iter().map(|q| q.x).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
+        ty = Some(sens::quat_tilt(fit3(t, &qt.iter().map(|q| q.y).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
+        sp = Some(sens::sin_phi(fit3(t, &z.iter().map(|z| z.sin_phi()).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
+        tt = Some(sens::tan_theta(fit3(t, &z.iter().map(|z| z.tan_theta()).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
+    }
+    Ok(ConicalPoint {
+        freq_hz,
+        alpha_deg: alpha_rad.to_degrees(),
+        gyro_x_db: db(amp(&ch.gyr_x, 0)?.map(|y| sens::gyro(y, w, alpha_rad))),
+        gyro_y_db: db(amp(&ch.gyr_y, 0)?.map(|y| sens::gyro(y, w, alpha_rad))),
+        accel_x_db: db(amp(&ch.acc_x, 0)?.map(|y| sens::accel(y, g_m_s2, alpha_rad))),
+        accel_y_db: db(amp(&ch.acc_y, 0)?.map(|y| sens::accel(y, g_m_s2, alpha_rad))),
+        tilt_x_db: db(tx),
+        tilt_y_db: db(ty),
+        sin_phi_db: db(sp),
+        tan_theta_db: db(tt),
+    })
+}
+
+/// A simulated conical-motion sweep.
+#[derive(Clone, Debug)]
+pub struct ConicalConfig {
+    /// Cone angle α, rad.
+    pub alpha_rad: f64,
+    /// Frequencies, Hz.
+    pub freqs_hz: Vec<f64>,
+    /// Sample rate, Hz.
+    pub rate_hz: f64,
+    /// Sensor model.
+    pub sensor: ImuModel,
+    /// Filter (see [`super::filters::filter_factory`]).
+    pub filter: String,
+    /// Random seed (frequency i uses seed + i).
+    pub seed: u64,
+    /// Time discarded at the start (sensor and filter transients), s.
+    pub settle_s: f64,
+    /// Shortest analysis window, s (rounded up to whole periods).
+    pub min_window_s: f64,
+    /// Fewest periods in the analysis window.
+    pub min_periods: f64,
+}
+
+impl ConicalConfig {
+    /// A sweep with the defaults: 200 Hz, seed 1, 2 s settling, window ≥ 10 s and ≥ 5 periods.
+    pub fn new(alpha_rad: f64, freqs_hz: Vec<f64>, sensor: ImuModel, filter: &str) -> Self {
+        Self {
+            alpha_rad,
+            freqs_hz,
+            rate_hz: 200.0,
+            sensor,
+            filter: filter.to_string(),
+            seed: 1,
+            settle_s: 2.0,
+            min_window_s: 10.0,
+            min_periods: 5.0,
+        }
+    }
+}
+
+/// Analysis window for frequency `f`: whole periods, at least `min_s` and `min_periods`.
+pub(crate) fn window_s(f: f64, min_s: f64, min_periods: f64) -> f64 {
+    (min_s * f).max(min_periods).ceil() / f
+}
+
+/// Check a sweep's common settings.
+pub(crate) fn check_sweep(freqs: &[f64], rate_hz: f64) -> Result<()> {
+    if freqs.is_empty() {
+        return Err(Error::new(ErrorKind::InvalidInput, "no frequencies given"));
+    }
+    if !(rate_hz.is_finite() && rate_hz > 0.0) {
+        return Err(Error::new(ErrorKind::InvalidInput, format!("sample rate {rate_hz} Hz")));
+    }
+    if let Some(f) = freqs.iter().find(|f| !(f.is_finite() && **f > 0.0 && **f < rate_hz / 4.0)) {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("frequency {f} Hz must be positive and below a quarter of the sample rate ({rate_hz} Hz)"),
+        ));
+    }
+    Ok(())
+}
+
+/// Run the simulated conical test at every frequency of `cfg`; `progress(done, total)`
+/// is called after each frequency.
+pub fn run_conical(cfg: &ConicalConfig, progress: &mut dyn FnMut(usize, usize)) -> Result<Vec<ConicalPoint>> {
+    check_sweep(&cfg.freqs_hz, cfg.rate_hz)?;
+    cfg.sensor.validate()?;
+    let factory: FilterFactory = filter_factory(&cfg.filter, cfg.rate_hz)?;
+    let mut out = Vec::with_capacity(cfg.freqs_hz.len());
+    for (i, &f) in cfg.freqs_hz.iter().enumerate() {
+        let cone = Conical::about_z(cfg.alpha_rad, f);
+        let win = window_s(f, cfg.min_window_s, cfg.min_periods);
+        let samples = cfg.sensor.simulate(&cone, cfg.rate_hz, cfg.settle_s + win, cfg.seed + i as u64);
+        let att = run_filter(&factory, &samples, cfg.rate_hz);
+        let ch = Channels::from_samples(&samples, Some(att)).window(cfg.settle_s, cfg.settle_s + win + 1e-9);
+        out.push(analyze_conical(&ch, cfg.alpha_rad, f, cfg.sensor.gravity_m_s2)?);
+        progress(i + 1, cfg.freqs_hz.len());
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all(p: &ConicalPoint) -> [f64; 8] {
+        [
+            p.gyro_x_db, p.gyro_y_db, p.accel_x_db, p.accel_y_db, p.tilt_x_db, p.tilt_y_db, p.sin_phi_db, p.tan_theta_db,
+        ]
+        .map(Option::unwrap)
+    }
+
+    #[test]
+    fn ideal_sensor_exact_integration_is_zero_db() {
+        let cfg = ConicalConfig::new(5f64.to_radians(), vec![0.1, 1.0, 3.15, 10.0], ImuModel::ideal(), "poisson");
+        let pts = run_conical(&cfg, &mut |_, _| {}).unwrap();
+        for p in &pts {
+            for v in all(p) {
+                assert!(v.abs() <= 0.05, "{p:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn first_order_2hz_sensor_is_minus_5_4_db_at_3_15_hz() {
+        let expect = 20.0 * (1.0 / (1.0 + (3.15f64 / 2.0).powi(2)).sqrt()).log10();
+        assert!((expect + 5.42).abs() < 0.01);
+        let cfg = ConicalConfig::new(5f64.to_radians(), vec![3.15], ImuModel::ideal().with_bandwidth(2.0), "poisson");
+        let p = &run_conical(&cfg, &mut |_, _| {}).unwrap()[0];
+        for v in [p.gyro_x_db, p.gyro_y_db, p.accel_x_db, p.accel_y_db].map(Option::unwrap) {
+            assert!((v - expect).abs() < 0.2, "{v} vs {expect}");
+        }
+        // the gyro-only tilt follows the band-limited gyro
+        let t = p.tilt_x_db.unwrap();
+        assert!(t < -3.0, "{t}");
+    }
+
+    #[test]
+    fn bad_sweeps_are_errors() {
+        let mut cfg = ConicalConfig::new(0.1, vec![], ImuModel::ideal(), "poisson");
+        assert!(run_conical(&cfg, &mut |_, _| {}).is_err());
+        cfg.freqs_hz = vec![80.0];
+        assert!(run_conical(&cfg, &mut |_, _| {}).is_err());
+        cfg.freqs_hz = vec![1.0];
+        cfg.filter = "nope".into();
+        assert!(run_conical(&cfg, &mut |_, _| {}).is_err());
+    }
+}

@@ -1,0 +1,35 @@
+//! Dynamic and static test analysis of inclinometers.
+//!
+//! Source: Liu, Cai, Yang, Zhang, "Testing of a MEMS Dynamic Inclinometer
+//! Using the Stewart Platform", Sensors 2019 (sine fits, sensitivities eqs
+//! 6–8 and 11, amplitude-frequency curves, cross-coupling), and Sapegin &
+//! Strokach, "Micromechanical inclinometer" (the 10-minute static test).
+//!
+//! * [`sinefit`] — IEEE Std 1057 three- and four-parameter sine fits with trend removal;
+//! * [`sensitivity`] — the paper's sensitivities and dB;
+//! * [`conical`] — frequency response under the conical motion (simulated or recorded);
+//! * [`orbit`] — cross-coupling under positional orbits;
+//! * [`static_test`] — drift and noise of a filter at rest;
+//! * [`allan`] — overlapping Allan deviation and IEEE Std 952 noise terms;
+//! * [`filters`] — the filter chosen by name for every run;
+//! * [`recording`] — lab recordings (CSV) for `analyze`, `static` and `allan`.
+//!
+//! ```
+//! use clino::bench::conical::{ConicalConfig, run_conical};
+//! use clino::sim::ImuModel;
+//! let cfg = ConicalConfig::new(5f64.to_radians(), vec![1.0], ImuModel::ideal(), "poisson");
+//! let pts = run_conical(&cfg, &mut |_, _| {}).unwrap();
+//! assert!(pts[0].tilt_x_db.unwrap().abs() < 0.05);
+//! ```
+
+pub mod allan;
+pub mod conical;
+pub mod filters;
+pub mod orbit;
+pub mod recording;
+pub mod sensitivity;
+pub mod sinefit;
+pub mod static_test;
+
+mod demo;
+pub use demo::demo_summary;

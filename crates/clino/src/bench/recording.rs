@@ -1,0 +1,418 @@
+//! Lab recordings for the test bench (CSV with a header row).
+//!
+//! Columns are found by header name; units are in the names:
+//!
+//! | quantity | columns |
+//! |---|---|
+//! | time (required, increasing) | `t_s` |
+//! | gyro | `gyr_x_rad_s`, `gyr_y_rad_s`, `gyr_z_rad_s` or `gyr_x_deg_s` … |
+//! | accelerometer | `acc_x_m_s2` … or `acc_x_g` … |
+//! | inclinometer attitude | `q_w, q_x, q_y, q_z` (body → ENU) or `phi_deg, theta_deg` (z-x-y set) or `roll_deg, pitch_deg` (aerospace z-y-x) |
+//! | platform encoders | `leg1_m` … `leg6_m` (forward kinematics gives the actual pose) |
+//! | reference attitude | `ref_q_w, ref_q_x, ref_q_y, ref_q_z` |
+//! | reference position | `ref_x_m, ref_y_m, ref_z_m` |
+//!
+//! Every cell must parse as a finite number; an error names the file, line and
+//! column. Nothing is dropped silently.
+
+use super::conical::{Channels, ConicalPoint, analyze_conical};
+use super::orbit::{OrbitPoint, cross_coupling_of_attitudes};
+use super::sinefit::fit4;
+use crate::sim::stewart::{Geometry, Pose};
+use crate::{Error, ErrorKind, Result};
+use clino_core::tilt::{QuatTilt, RollPitch, ZxyTilt, attitude_from_up};
+use clino_core::{Attitude, G0, ImuSample, Vec3};
+use nalgebra::Quaternion;
+use serde::Serialize;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// A CSV table of numeric columns with its source file.
+#[derive(Clone, Debug)]
+pub struct Table {
+    /// File it was read from.
+    pub path: PathBuf,
+    /// Column names in file order.
+    pub names: Vec<String>,
+    columns: HashMap<String, Vec<f64>>,
+}
+
+impl Table {
+    /// Read `path`: a header row, then numeric rows; `t_s` must be present and increasing.
+    pub fn read(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path).map_err(|e| Error::new(ErrorKind::Io, e.to_string()).in_file(path))?;
+        Self::from_reader(file, path)
+    }
+
+    /// Parse CSV text from `reader`, naming `path` in errors.
+    pub fn from_reader<R: std::io::Read>(reader: R, path: &Path) -> Result<Self> {
+        let mut rdr = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(reader);
+        let names: Vec<String> = rdr
+            .headers()
+            .map_err(|e| Error::new(ErrorKind::Parse, e.to_string()).in_file(path).at_line(1))?
+            .iter()
+            .map(str::to_string)
+            .collect();
+        let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
+        let mut rec = csv::StringRecord::new();
+        let mut line = 1u64;
+        loop {
+            match rdr.read_record(&mut rec) {
+                Ok(false) => break,
+                Ok(true) => {}
+                Err(e) => {
+                    let l = e.position().map_or(line + 1, |p| p.line());
+                    return Err(Error::new(ErrorKind::Parse, e.to_string()).in_file(path).at_line(l));
+                }
+            }
+            line = rec.position().map_or(line + 1, |p| p.line());
+            for (j, cell) in rec.iter().enumerate() {
+                let v: f64 = cell.parse().map_err(|_| {
+                    Error::new(ErrorKind::Parse, format!("not a number: '{cell}'"))
+                        .in_file(path)
+                        .at_line(line)
+                        .at_column(names[j].clone())
+                })?;
+                if !v.is_finite() {
+                    return Err(Error::new(ErrorKind::InvalidInput, format!("not finite: '{cell}'"))
+                        .in_file(path)
+                        .at_line(line)
+                        .at_column(names[j].clone()));
+                }
+                cols[j].push(v);
+            }
+        }
+        if cols.first().is_none_or(|c| c.is_empty()) {
+            return Err(Error::new(ErrorKind::Empty, "no data rows").in_file(path));
+        }
+        let columns: HashMap<String, Vec<f64>> = names.iter().cloned().zip(cols).collect();
+        let t = self_col(&columns, "t_s").ok_or_else(|| {
+            Error::new(ErrorKind::MissingColumn, "time column is required").in_file(path).at_column("t_s")
+        })?;
+        if let Some(i) = t.windows(2).position(|w| !(w[1] > w[0])) {
+            return Err(Error::new(ErrorKind::TimeNotIncreasing, format!("time {} s does not increase", t[i + 1]))
+                .in_file(path)
+                .at_line(i as u64 + 3)
+                .at_column("t_s"));
+        }
+        Ok(Self {
+            path: path.to_path_buf(),
+            names,
+            columns,
+        })
+    }
+
+    /// A column by name.
+    pub fn col(&self, name: &str) -> Option<&[f64]> {
+        self_col(&self.columns, name)
+    }
+
+    /// A required column, or a `MissingColumn` error naming it.
+    pub fn req(&self, name: &str) -> Result<&[f64]> {
+        self.col(name).ok_or_else(|| {
+            Error::new(ErrorKind::MissingColumn, "column is required here").in_file(&self.path).at_column(name)
+        })
+    }
+
+    /// Time stamps, s.
+    pub fn t(&self) -> &[f64] {
+        self.col("t_s").unwrap_or(&[])
+    }
+
+    /// Rows.
+    pub fn len(&self) -> usize {
+        self.t().len()
+    }
+
+    /// True when there are no rows (never, after [`Table::read`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// One axis given in either of two units: the column `a` as is, or `b` times `scale`.
+    fn either(&self, a: &str, b: &str, scale: f64) -> Option<Vec<f64>> {
+        self.col(a)
+            .map(<[f64]>::to_vec)
+            .or_else(|| self.col(b).map(|v| v.iter().map(|x| x * scale).collect()))
+    }
+
+    /// IMU samples (gyro and accelerometer, all three axes required).
+    pub fn imu_samples(&self) -> Result<Vec<ImuSample>> {
+        let mut axes = Vec::new();
+        for a in ["x", "y", "z"] {
+            axes.push(
+                self.either(&format!("gyr_{a}_rad_s"), &format!("gyr_{a}_deg_s"), 1f64.to_radians())
+                    .ok_or_else(|| self.missing(&format!("gyr_{a}_rad_s")))?,
+            );
+        }
+        for a in ["x", "y", "z"] {
+            axes.push(
+                self.either(&format!("acc_{a}_m_s2"), &format!("acc_{a}_g"), G0)
+                    .ok_or_else(|| self.missing(&format!("acc_{a}_m_s2")))?,
+            );
+        }
+        let t = self.t();
+        Ok((0..t.len())
+            .map(|i| {
+                ImuSample::new(
+                    t[i],
+                    Vec3::new(axes[0][i], axes[1][i], axes[2][i]),
+                    Vec3::new(axes[3][i], axes[4][i], axes[5][i]),
+                )
+            })
+            .collect())
+    }
+
+    fn missing(&self, name: &str) -> Error {
+        Error::new(ErrorKind::MissingColumn, "column is required here").in_file(&self.path).at_column(name)
+    }
+
+    /// The inclinometer's attitude output, if any of the accepted column sets is present.
+    pub fn attitude(&self) -> Option<Vec<Attitude>> {
+        let n = self.len();
+        if let (Some(w), Some(x), Some(y), Some(z)) = (self.col("q_w"), self.col("q_x"), self.col("q_y"), self.col("q_z")) {
+            return Some((0..n).map(|i| Attitude::from_quaternion(Quaternion::new(w[i], x[i], y[i], z[i]))).collect());
+        }
+        let up = |u: Vec3| attitude_from_up(&u).unwrap_or_else(Attitude::identity);
+        if let (Some(p), Some(t)) = (self.col("phi_deg"), self.col("theta_deg")) {
+            return Some(
+                (0..n)
+                    .map(|i| up(ZxyTilt { phi: p[i].to_radians(), theta: t[i].to_radians() }.up()))
+                    .collect(),
+            );
+        }
+        if let (Some(r), Some(p)) = (self.col("roll_deg"), self.col("pitch_deg")) {
+            return Some(
+                (0..n)
+                    .map(|i| up(RollPitch { roll: r[i].to_radians(), pitch: p[i].to_radians() }.up()))
+                    .collect(),
+            );
+        }
+        None
+    }
+
+    /// Inclinometer channels (whatever the file has).
+    pub fn channels(&self) -> Channels {
+        Channels {
+            t_s: self.t().to_vec(),
+            gyr_x: self.either("gyr_x_rad_s", "gyr_x_deg_s", 1f64.to_radians()),
+            gyr_y: self.either("gyr_y_rad_s", "gyr_y_deg_s", 1f64.to_radians()),
+            acc_x: self.either("acc_x_m_s2", "acc_x_g", G0),
+            acc_y: self.either("acc_y_m_s2", "acc_y_g", G0),
+            attitude: self.attitude(),
+        }
+    }
+
+    /// The platform's reference pose per row: from the encoder legs by forward
+    /// kinematics (warm-started row to row; returns the largest iteration count
+    /// too), or from `ref_q_*` and `ref_*_m` columns.
+    pub fn reference(&self, geometry: &Geometry) -> Result<(Vec<Pose>, Option<usize>)> {
+        let legs: Vec<Option<&[f64]>> = (1..=6).map(|i| self.col(&format!("leg{i}_m"))).collect();
+        if legs.iter().all(Option::is_some) {
+            let legs: Vec<&[f64]> = legs.into_iter().flatten().collect();
+            let mut guess = geometry.home();
+            let mut out = Vec::with_capacity(self.len());
+            let mut max_it = 0;
+            for i in 0..self.len() {
+                let l: [f64; 6] = core::array::from_fn(|k| legs[k][i]);
+                let fk = geometry
+                    .forward(&l, &guess)
+                    .map_err(|e| e.in_file(&self.path).at_line(i as u64 + 2).at_column("leg1_m…leg6_m"))?;
+                max_it = max_it.max(fk.iterations);
+                guess = fk.pose;
+                out.push(fk.pose);
+            }
+            return Ok((out, Some(max_it)));
+        }
+        let (w, x, y, z) = (self.col("ref_q_w"), self.col("ref_q_x"), self.col("ref_q_y"), self.col("ref_q_z"));
+        let (Some(w), Some(x), Some(y), Some(z)) = (w, x, y, z) else {
+            return Err(Error::new(
+                ErrorKind::MissingColumn,
+                "a reference is required: leg1_m…leg6_m (encoders) or ref_q_w, ref_q_x, ref_q_y, ref_q_z",
+            )
+            .in_file(&self.path)
+            .at_column("leg1_m"));
+        };
+        let zero = vec![0.0; self.len()];
+        let px = self.col("ref_x_m").unwrap_or(&zero);
+        let py = self.col("ref_y_m").unwrap_or(&zero);
+        let pz = self.col("ref_z_m").unwrap_or(&zero);
+        Ok((
+            (0..self.len())
+                .map(|i| Pose {
+                    pos_m: Vec3::new(px[i], py[i], pz[i]),
+                    attitude: Attitude::from_quaternion(Quaternion::new(w[i], x[i], y[i], z[i])),
+                })
+                .collect(),
+            None,
+        ))
+    }
+}
+
+fn self_col<'a>(m: &'a HashMap<String, Vec<f64>>, name: &str) -> Option<&'a [f64]> {
+    m.get(name).map(Vec::as_slice)
+}
+
+/// What the platform did during a recording.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Excitation {
+    /// Conical motion about z (frequency response).
+    Conical,
+    /// Positional orbit (cross-coupling).
+    Orbit,
+}
+
+/// Result of analysing a lab recording.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Analysis {
+    /// Reference frequency found by the four-parameter fit, Hz.
+    pub freq_hz: f64,
+    /// Reference amplitude: cone angle (degrees) or orbit x amplitude (mm).
+    pub reference_amplitude: f64,
+    /// Largest forward-kinematics iteration count, when encoders were used.
+    pub fk_max_iterations: Option<usize>,
+    /// Frequency response (conical excitation).
+    pub conical: Option<ConicalPoint>,
+    /// Cross-coupling (orbit excitation).
+    pub orbit: Option<OrbitPoint>,
+}
+
+/// Analyse a lab recording: find the excitation's frequency and amplitude from
+/// the platform reference (four-parameter fits), then the inclinometer's
+/// sensitivities (conical) or cross-coupling (orbit). `freq_hz` overrides the
+/// fitted frequency; `skip_s` drops the start of the record.
+pub fn analyze(table: &Table, excitation: Excitation, geometry: &Geometry, freq_hz: Option<f64>, skip_s: f64) -> Result<Analysis> {
+    let (reference, fk_it) = table.reference(geometry)?;
+    let t0 = table.t()[0] + skip_s;
+    let keep: Vec<usize> = (0..table.len()).filter(|&i| table.t()[i] >= t0).collect();
+    if keep.len() < 16 {
+        return Err(Error::new(ErrorKind::Empty, "fewer than 16 rows after the skipped start").in_file(&table.path));
+    }
+    let t: Vec<f64> = keep.iter().map(|&i| table.t()[i]).collect();
+    let ch = table.channels();
+    let ch = ch.window(t0, f64::INFINITY);
+    match excitation {
+        Excitation::Conical => {
+            let qx: Vec<f64> = keep.iter().map(|&i| QuatTilt::from_attitude(&reference[i].attitude).x).collect();
+            let qy: Vec<f64> = keep.iter().map(|&i| QuatTilt::from_attitude(&reference[i].attitude).y).collect();
+            let fx = fit4(&t, &qx, freq_hz, 1).map_err(|e| e.in_file(&table.path))?;
+            let f = freq_hz.unwrap_or(fx.freq_hz);
+            let fy = super::sinefit::fit3(&t, &qy, f, 1)?;
+            let half = 0.5 * (fx.amplitude + fy.amplitude);
+            let alpha = 2.0 * half.min(1.0).asin();
+            let point = analyze_conical(&ch, alpha, f, G0).map_err(|e| e.in_file(&table.path))?;
+            Ok(Analysis {
+                freq_hz: f,
+                reference_amplitude: alpha.to_degrees(),
+                fk_max_iterations: fk_it,
+                conical: Some(point),
+                orbit: None,
+            })
+        }
+        Excitation::Orbit => {
+            let px: Vec<f64> = keep.iter().map(|&i| reference[i].pos_m.x).collect();
+            let fx = fit4(&t, &px, freq_hz, 1).map_err(|e| e.in_file(&table.path))?;
+            let f = freq_hz.unwrap_or(fx.freq_hz);
+            let att = ch.attitude.as_ref().ok_or_else(|| {
+                Error::new(ErrorKind::MissingColumn, "an inclinometer attitude is required (q_*, phi_deg/theta_deg or roll_deg/pitch_deg)")
+                    .in_file(&table.path)
+                    .at_column("roll_deg")
+            })?;
+            let point = cross_coupling_of_attitudes(&ch.t_s, att, f)?;
+            Ok(Analysis {
+                freq_hz: f,
+                reference_amplitude: fx.amplitude * 1e3,
+                fk_max_iterations: fk_it,
+                conical: None,
+                orbit: Some(point),
+            })
+        }
+    }
+}
+
+/// Write a lab-style recording of a simulated platform run: time, IMU,
+/// inclinometer quaternion and encoder legs (the format [`Table`] reads).
+pub fn write_recording(
+    path: &Path,
+    samples: &[ImuSample],
+    attitude: &[Attitude],
+    legs: Option<&[[f64; 6]]>,
+) -> Result<()> {
+    let io = |e: std::io::Error| Error::new(ErrorKind::Io, e.to_string()).in_file(path);
+    let mut w = csv::Writer::from_path(path).map_err(|e| Error::new(ErrorKind::Io, e.to_string()).in_file(path))?;
+    let mut head: Vec<String> = [
+        "t_s", "gyr_x_rad_s", "gyr_y_rad_s", "gyr_z_rad_s", "acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2", "q_w", "q_x", "q_y", "q_z",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    if legs.is_some() {
+        head.extend((1..=6).map(|i| format!("leg{i}_m")));
+    }
+    w.write_record(&head).map_err(|e| io(e.into()))?;
+    for (i, s) in samples.iter().enumerate() {
+        let q = attitude[i];
+        let mut row = vec![
+            s.t_s, s.gyr_rad_s.x, s.gyr_rad_s.y, s.gyr_rad_s.z, s.acc_m_s2.x, s.acc_m_s2.y, s.acc_m_s2.z, q.w, q.i, q.j, q.k,
+        ];
+        if let Some(l) = legs {
+            row.extend_from_slice(&l[i]);
+        }
+        w.write_record(row.iter().map(|v| format!("{v:.12e}"))).map_err(|e| io(e.into()))?;
+    }
+    w.flush().map_err(io)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::filters::{filter_factory, run_filter};
+    use crate::sim::ImuModel;
+    use crate::sim::motion::Conical;
+    use crate::sim::stewart::{ServoLegs, run_platform};
+
+    #[test]
+    fn parse_errors_name_line_and_column() {
+        let p = Path::new("rec.csv");
+        let e = Table::from_reader("t_s,acc_x_g\n0,1\n0.1,abc\n".as_bytes(), p).unwrap_err();
+        assert_eq!(e.to_string(), "rec.csv:3: column 'acc_x_g': not a number: 'abc'");
+        let e = Table::from_reader("t_s,a\n0,1\n0,2\n".as_bytes(), p).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::TimeNotIncreasing);
+        assert_eq!(e.line, Some(3));
+        let e = Table::from_reader("a,b\n0,1\n".as_bytes(), p).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::MissingColumn);
+        let e = Table::from_reader("t_s,a\n0,1\n1,NaN\n".as_bytes(), p).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::InvalidInput);
+        let e = Table::from_reader("t_s,a\n0,1\n1\n".as_bytes(), p).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Parse);
+        let t = Table::from_reader("t_s,gyr_x_deg_s\n0,1\n".as_bytes(), p).unwrap();
+        assert_eq!(t.imu_samples().unwrap_err().kind, ErrorKind::MissingColumn);
+    }
+
+    #[test]
+    fn analyze_a_simulated_lab_recording_with_encoders() {
+        let g = Geometry::typical();
+        let (alpha, f, rate) = (5f64.to_radians(), 1.0, 100.0);
+        let cone = Conical::about_z(alpha, f);
+        let run = run_platform(&g, &ServoLegs::default(), &cone, rate, 12.0).unwrap();
+        let samples = ImuModel::ideal().simulate(&cone, rate, 12.0, 0);
+        let att = run_filter(&filter_factory("poisson", rate).unwrap(), &samples, rate);
+        let legs: Vec<[f64; 6]> = run.iter().map(|s| s.encoder_m).collect();
+        let dir = std::env::temp_dir().join(format!("clino-tb-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("cone.csv");
+        write_recording(&path, &samples, &att, Some(&legs)).unwrap();
+        let table = Table::read(&path).unwrap();
+        let a = analyze(&table, Excitation::Conical, &g, None, 2.0).unwrap();
+        assert!((a.freq_hz - f).abs() < 1e-6, "{a:?}");
+        // the encoders see the servo's attenuation of the commanded cone
+        let servo_db = 20.0 * ServoLegs::default().gain(f).log10();
+        assert!((a.reference_amplitude - 5.0 * ServoLegs::default().gain(f)).abs() < 0.01, "{a:?}");
+        let c = a.conical.unwrap();
+        // the sensor saw the commanded cone, so it reads 0 dB minus the servo's loss
+        assert!((c.tilt_x_db.unwrap() + servo_db).abs() < 0.02, "{c:?}");
+        assert!((c.gyro_y_db.unwrap() + servo_db).abs() < 0.02, "{c:?}");
+        assert!(a.fk_max_iterations.unwrap() <= 4);
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
