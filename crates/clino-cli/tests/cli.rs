@@ -233,3 +233,23 @@ fn eval_over_the_broad_trials() {
     let madgwick = v["mean_rmse_deg"][1].as_f64().unwrap();
     assert!(madgwick > 1.0 && madgwick < 5.0, "{madgwick}");
 }
+
+#[test]
+fn fuse_reads_stdin() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_clino"))
+        .args(["fuse", "-", "-f", "poisson", "-o", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let text = format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,1,0,0,9.8\n");
+    child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(out.lines().count(), 3);
+    assert!(out.lines().nth(2).unwrap().ends_with(",gyro_only"), "{out}");
+}

@@ -46,7 +46,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             std::fs::File::open(&a.input).map_err(|e| clino::Error::from(e).in_file(&a.input))?,
         )
     };
-    let mut reader = ImuCsvReader::new(input, &a.input, &opts)?;
+    let name = if a.input.as_os_str() == "-" {
+        PathBuf::from("<stdin>")
+    } else {
+        a.input.clone()
+    };
+    let mut reader = ImuCsvReader::new(input, name, &opts)?;
     let out: Box<dyn Write> = match &a.output {
         Some(p) if p.as_os_str() != "-" => {
             Box::new(std::fs::File::create(p).map_err(|e| clino::Error::from(e).in_file(p))?)

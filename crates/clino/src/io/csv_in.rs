@@ -435,6 +435,8 @@ impl<R: Read> ImuCsvReader<R> {
                     return Err(missing(&want, hint));
                 }
             };
+        }
+        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
             let want = format!("acc_{axis}_{}", opts.accel_unit.suffix());
             let bare = format!("acc_{axis}");
             acc[k] = match self.find(&[&want, &bare]) {
