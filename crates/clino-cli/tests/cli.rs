@@ -246,7 +246,12 @@ fn fuse_reads_stdin() {
         .spawn()
         .unwrap();
     let text = format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,1,0,0,9.8\n");
-    child.stdin.take().unwrap().write_all(text.as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(text.as_bytes())
+        .unwrap();
     let o = child.wait_with_output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout).unwrap();
