@@ -61,6 +61,20 @@ fn fuse_writes_one_row_per_input_row_to_stdout_and_file() {
     assert_eq!(out.lines().count(), n_in + 1);
     assert!(out.starts_with("t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status\n"));
     assert!(stderr(&o).contains("0 with NaN"), "{}", stderr(&o));
+    let svg = d.join("tilt.svg");
+    let o = clino(&[
+        "fuse",
+        &input,
+        "-f",
+        "mahony",
+        "-o",
+        d.join("o2.csv").to_str().unwrap(),
+        "--plot",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg_text = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg_text.contains("<svg") && svg_text.contains("inclination_deg"));
     let outfile = d.join("out.csv");
     let o = clino(&[
         "fuse",

@@ -378,6 +378,18 @@ pub fn fuse<R: Read, W: Write>(
     config: &FilterConfig,
     opts: &FuseOptions,
 ) -> Result<FuseReport> {
+    fuse_traced(reader, writer, config, opts, None)
+}
+
+/// [`fuse`], also keeping a bounded-memory trace of roll, pitch and
+/// inclination for a plot ([`TiltTrace`]).
+pub fn fuse_traced<R: Read, W: Write>(
+    reader: &mut ImuCsvReader<R>,
+    writer: W,
+    config: &FilterConfig,
+    opts: &FuseOptions,
+    mut trace: Option<&mut TiltTrace>,
+) -> Result<FuseReport> {
     let mut fuser = Fuser::new(config)?;
     let mut out = CsvLineWriter::new(writer);
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
@@ -395,9 +407,17 @@ pub fn fuse<R: Read, W: Write>(
                 out.f64(q.j);
                 out.f64(q.k);
                 let rp = RollPitch::from_attitude(&q);
-                out.f64(rp.roll.to_degrees());
-                out.f64(rp.pitch.to_degrees());
-                out.f64(inclination(&q).to_degrees());
+                let deg = [
+                    rp.roll.to_degrees(),
+                    rp.pitch.to_degrees(),
+                    inclination(&q).to_degrees(),
+                ];
+                for d in deg {
+                    out.f64(d);
+                }
+                if let Some(t) = trace.as_deref_mut() {
+                    t.push(row.sample.t_s, deg);
+                }
             }
             None => {
                 for _ in 0..7 {
@@ -410,6 +430,78 @@ pub fn fuse<R: Read, W: Write>(
     }
     out.finish().map_err(io_err)?;
     Ok(*fuser.report())
+}
+
+/// A decimated record of roll, pitch and inclination (degrees) against time,
+/// in bounded memory whatever the length of the run: every `stride`-th row is
+/// kept; when `capacity` points are held, every other one is dropped and the
+/// stride doubles. So between `capacity / 2` and `capacity` evenly spaced
+/// rows are kept at the end.
+#[derive(Clone, Debug)]
+pub struct TiltTrace {
+    capacity: usize,
+    stride: u64,
+    seen: u64,
+    points: Vec<(f64, [f64; 3])>,
+}
+
+impl TiltTrace {
+    /// A trace holding at most `capacity` points (at least 2).
+    pub fn new(capacity: usize) -> Self {
+        Self {
+            capacity: capacity.max(2),
+            stride: 1,
+            seen: 0,
+            points: Vec::new(),
+        }
+    }
+
+    /// Offer one row: time (s) and [roll, pitch, inclination] (degrees).
+    pub fn push(&mut self, t_s: f64, deg: [f64; 3]) {
+        if self.seen % self.stride == 0 {
+            if self.points.len() == self.capacity {
+                let mut k = 0;
+                self.points.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                self.stride *= 2;
+                // keep the phase: this row is kept only if it falls on the new stride
+                if self.seen % self.stride != 0 {
+                    self.seen += 1;
+                    return;
+                }
+            }
+            self.points.push((t_s, deg));
+        }
+        self.seen += 1;
+    }
+
+    /// The points kept: (t_s, [roll_deg, pitch_deg, inclination_deg]).
+    pub fn points(&self) -> &[(f64, [f64; 3])] {
+        &self.points
+    }
+
+    /// Draw roll, pitch and inclination against time to an SVG or PNG file.
+    pub fn plot(&self, path: &std::path::Path, title: &str) -> Result<()> {
+        let series: Vec<crate::report::Series> = ["roll_deg", "pitch_deg", "inclination_deg"]
+            .iter()
+            .enumerate()
+            .map(|(k, name)| {
+                crate::report::Series::line(
+                    *name,
+                    self.points.iter().map(|(t, d)| (*t, d[k])).collect(),
+                )
+            })
+            .collect();
+        let spec = crate::report::PlotSpec {
+            title: title.to_string(),
+            x_label: "t (s)".into(),
+            y_label: "angle (deg)".into(),
+            ..Default::default()
+        };
+        crate::report::line_plot(path, &spec, &series)
+    }
 }
 
 /// The fusion section of `clino demo`: every filter, default gains, on the
@@ -583,6 +675,23 @@ mod tests {
         }
         let again = demo_summary().unwrap();
         assert_eq!(s, again);
+    }
+
+    #[test]
+    fn tilt_trace_is_bounded_and_evenly_spaced() {
+        let mut tr = TiltTrace::new(100);
+        for i in 0..10_000u64 {
+            tr.push(i as f64, [0.0, 0.0, i as f64]);
+        }
+        let p = tr.points();
+        assert!(p.len() <= 100 && p.len() >= 50, "{}", p.len());
+        let step = p[1].0 - p[0].0;
+        assert_eq!(p[0].0, 0.0);
+        assert!(
+            p.windows(2).all(|w| w[1].0 - w[0].0 == step),
+            "uneven spacing"
+        );
+        assert_eq!(step, 128.0);
     }
 
     #[test]

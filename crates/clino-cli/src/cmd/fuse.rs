@@ -3,7 +3,7 @@
 use std::io::Write;
 use std::path::PathBuf;
 
-use clino::fusion::{FilterConfig, FilterKind, FuseOptions, fuse};
+use clino::fusion::{FilterConfig, FilterKind, FuseOptions, TiltTrace, fuse_traced};
 use clino::io::ImuCsvReader;
 
 use super::{GainArgs, ReadArgs};
@@ -19,6 +19,10 @@ pub struct Args {
     /// Output CSV (t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status); `-` or absent: stdout.
     #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
+    /// Also plot roll, pitch and inclination (degrees) against time to this SVG or PNG file
+    /// (at most 20 000 evenly spaced rows are kept for it, whatever the length of the input).
+    #[arg(long, value_name = "FILE.svg|png")]
+    pub plot: Option<PathBuf>,
     /// Stop with an error at the first NaN gyro or accelerometer value instead of holding the attitude.
     #[arg(long)]
     pub strict: bool,
@@ -58,7 +62,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
         _ => Box::new(std::io::stdout().lock()),
     };
-    let rep = fuse(&mut reader, out, &config, &fuse_opts)?;
+    let mut trace = a.plot.as_ref().map(|_| TiltTrace::new(20_000));
+    let rep = fuse_traced(&mut reader, out, &config, &fuse_opts, trace.as_mut())?;
+    if let (Some(path), Some(trace)) = (&a.plot, &trace) {
+        let title = format!("{} — {}", a.input.display(), kind);
+        trace.plot(path, &title)?;
+        eprintln!("clino fuse: plot written to {}", path.display());
+    }
     eprintln!(
         "clino fuse: {} rows with {}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer (attitude held{})",
         rep.rows,
