@@ -305,7 +305,10 @@ impl<R: Read> ImuCsvReader<R> {
             .iter()
             .map(|f| {
                 let s = String::from_utf8_lossy(f.trim_ascii());
-                s.trim_matches('"').to_string()
+                // a UTF-8 byte-order mark (spreadsheet exports) is not part of the first name
+                s.trim_start_matches('\u{feff}')
+                    .trim_matches('"')
+                    .to_string()
             })
             .collect();
         let header_line = me.line;
