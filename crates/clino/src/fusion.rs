@@ -12,6 +12,24 @@
 //!
 //! The filters are those of [`clino_core::filter`]; their equations and
 //! sources are documented there.
+//!
+//! ```
+//! use clino::fusion::{FilterConfig, FilterKind, FuseOptions, fuse};
+//! use clino::io::{ImuCsvReader, ReadOptions};
+//!
+//! // 22 s of a real recording embedded in the library (BROAD trial 07).
+//! let text = clino::demo::BROAD_EXCERPT;
+//! let mut reader = ImuCsvReader::new(text.as_bytes(), "excerpt.csv", &ReadOptions::default())?;
+//! let mut out = Vec::new();
+//! let config = FilterConfig::new(FilterKind::Madgwick);
+//! let report = fuse(&mut reader, &mut out, &config, &FuseOptions::default())?;
+//! assert_eq!(report.rows, 6286);
+//! assert_eq!(report.dropouts, 0);
+//! let csv = String::from_utf8(out).unwrap();
+//! assert!(csv.starts_with("t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status\n"));
+//! assert_eq!(csv.lines().count(), 6287);
+//! # Ok::<(), clino::Error>(())
+//! ```
 
 use std::io::{Read, Write};
 use std::str::FromStr;
