@@ -6,6 +6,7 @@
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
+//! * [`redundancy`] — nine-chain six-axis accelerometer with a gyro: decoupling, fault diagnosis, restoration;
 //! * [`sim`] — truth trajectories and simulated sensors.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
@@ -16,6 +17,7 @@
 pub use clino_core as core;
 
 pub mod error;
+pub mod redundancy;
 pub mod report;
 pub mod sim;
 
