@@ -66,7 +66,7 @@
 //! * The counts do not depend on the stiffnesses, mass or size (tested with
 //!   uneven stiffnesses): they follow from the structure of eqs 10 and 12.
 
-use super::equations::{source_relations, Relation};
+use super::equations::{Relation, source_relations};
 use super::fault_set::FaultSet;
 use super::model::SixAxisAccelerometer;
 use nalgebra::DMatrix;
@@ -74,9 +74,9 @@ use std::collections::BTreeMap;
 
 /// The source's Table 1: quadruples it states restorable.
 pub const TABLE1: [&str; 36] = [
-    "1246", "1248", "1268", "1367", "1368", "1378", "1468", "1678", "2345", "2346", "2348", "2349", "2357", "2367",
-    "2368", "2378", "2379", "2457", "2467", "2469", "2478", "2479", "2489", "2678", "2689", "3457", "3467", "3468",
-    "3478", "3479", "3567", "3568", "3578", "4678", "4689", "5678",
+    "1246", "1248", "1268", "1367", "1368", "1378", "1468", "1678", "2345", "2346", "2348", "2349",
+    "2357", "2367", "2368", "2378", "2379", "2457", "2467", "2469", "2478", "2479", "2489", "2678",
+    "2689", "3457", "3467", "3468", "3478", "3479", "3567", "3568", "3578", "4678", "4689", "5678",
 ];
 
 /// Fault sets by size: size → sets (each written like "2389").
@@ -154,7 +154,9 @@ pub fn source_restorable(relations: &[Relation], f: FaultSet) -> bool {
         if bad == 0 {
             return true;
         }
-        let step = relations.iter().find(|r| (r.chains.0 & bad).count_ones() == 1);
+        let step = relations
+            .iter()
+            .find(|r| (r.chains.0 & bad).count_ones() == 1);
         match step {
             Some(r) => bad &= !r.chains.0,
             None => return false,
@@ -164,14 +166,22 @@ pub fn source_restorable(relations: &[Relation], f: FaultSet) -> bool {
 
 /// The pattern of violated relations a fault set produces (bit per relation).
 pub fn signature(relations: &[Relation], f: FaultSet) -> u32 {
-    relations.iter().enumerate().filter(|(_, r)| r.chains.intersects(f)).fold(0, |m, (i, _)| m | (1 << i))
+    relations
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.chains.intersects(f))
+        .fold(0, |m, (i, _)| m | (1 << i))
 }
 
 /// Source-scheme isolability: no other set of at most `|F|` chains violates
 /// the same relations.
 pub fn source_isolable(relations: &[Relation], f: FaultSet) -> bool {
     let sig = signature(relations, f);
-    (1..=f.len()).all(|k| FaultSet::all_of_size(k).into_iter().all(|s| s == f || signature(relations, s) != sig))
+    (1..=f.len()).all(|k| {
+        FaultSet::all_of_size(k)
+            .into_iter()
+            .all(|s| s == f || signature(relations, s) != sig)
+    })
 }
 
 /// Analyse sizes 1..=`max_size` for the device `acc`.
@@ -187,12 +197,19 @@ pub fn analyze(acc: &SixAxisAccelerometer, max_size: usize) -> Analysis {
     for k in 1..=max_size {
         let sets = FaultSet::all_of_size(k);
         let pick = |pred: &dyn Fn(FaultSet) -> bool| -> Vec<String> {
-            sets.iter().filter(|&&s| pred(s)).map(|s| s.to_string()).collect()
+            sets.iter()
+                .filter(|&&s| pred(s))
+                .map(|s| s.to_string())
+                .collect()
         };
-        a.restorable.insert(k.to_string(), pick(&|s| restorable(acc, s)));
-        a.isolable.insert(k.to_string(), pick(&|s| isolable(acc, s)));
-        a.source_restorable.insert(k.to_string(), pick(&|s| source_restorable(&rel, s)));
-        a.source_isolable.insert(k.to_string(), pick(&|s| source_isolable(&rel, s)));
+        a.restorable
+            .insert(k.to_string(), pick(&|s| restorable(acc, s)));
+        a.isolable
+            .insert(k.to_string(), pick(&|s| isolable(acc, s)));
+        a.source_restorable
+            .insert(k.to_string(), pick(&|s| source_restorable(&rel, s)));
+        a.source_isolable
+            .insert(k.to_string(), pick(&|s| source_isolable(&rel, s)));
     }
     a
 }
@@ -201,7 +218,8 @@ impl Analysis {
     /// A short table of the counts and the Table 1 comparison.
     pub fn summary(&self) -> String {
         let n = |m: &SetsBySize, k: &str| m.get(k).map_or(0, |v| v.len());
-        let mut s = String::from("size  restorable  isolable  source-restorable  source-isolable\n");
+        let mut s =
+            String::from("size  restorable  isolable  source-restorable  source-isolable\n");
         for k in self.restorable.keys() {
             s += &format!(
                 "{k:>4}  {:>10}  {:>8}  {:>17}  {:>15}\n",
@@ -213,7 +231,8 @@ impl Analysis {
         }
         if let (Some(iso), Some(src)) = (self.isolable.get("4"), self.source_isolable.get("4")) {
             let in_iso = self.table1.iter().filter(|t| iso.contains(t)).count();
-            let same = src.len() == self.table1.len() && self.table1.iter().all(|t| src.contains(t));
+            let same =
+                src.len() == self.table1.len() && self.table1.iter().all(|t| src.contains(t));
             s += &format!(
                 "Table 1 (36 quadruples): {in_iso} isolable by the general scheme; source scheme reproduces it exactly: {}\n",
                 if same { "yes" } else { "no" }
@@ -246,7 +265,11 @@ mod tests {
             assert!(a.isolable["4"].contains(&t.to_string()), "{t}");
         }
         // the paper's 165 = 9 + 36 + 84 + 36
-        let total: usize = ["1", "2", "3"].iter().map(|k| a.isolable[*k].len()).sum::<usize>() + TABLE1.len();
+        let total: usize = ["1", "2", "3"]
+            .iter()
+            .map(|k| a.isolable[*k].len())
+            .sum::<usize>()
+            + TABLE1.len();
         assert_eq!(total, 165);
         assert!(!a.source_isolable["2"].contains(&"15".to_string()));
         assert!(!a.isolable["4"].contains(&"1234".to_string()));

@@ -54,10 +54,15 @@ pub struct Decoupled {
 
 fn check_times(t_s: &[f64]) -> Result<()> {
     for (i, w) in t_s.windows(2).enumerate() {
-        if !(w[1] > w[0]) || !w[1].is_finite() {
+        if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) || !w[1].is_finite() {
             return Err(Error::new(
                 ErrorKind::TimeNotIncreasing,
-                format!("time must increase: sample {} at {} s follows {} s", i + 2, w[1], w[0]),
+                format!(
+                    "time must increase: sample {} at {} s follows {} s",
+                    i + 2,
+                    w[1],
+                    w[0]
+                ),
             ));
         }
     }
@@ -68,7 +73,10 @@ fn check_times(t_s: &[f64]) -> Result<()> {
 /// (eq 6, corrected as in the module doc), rad/s.
 pub fn auxiliary_rate(t_s: &[f64], eps: &[Vec3], w0: Vec3) -> Result<Vec<Vec3>> {
     if t_s.len() != eps.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, "times and angular accelerations differ in length"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "times and angular accelerations differ in length",
+        ));
     }
     check_times(t_s)?;
     let mut out = Vec::with_capacity(eps.len());
@@ -99,14 +107,20 @@ pub fn decouple(
     g: f64,
 ) -> Result<Vec<Decoupled>> {
     if t_s.len() != forces.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, "times and forces differ in length"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "times and forces differ in length",
+        ));
     }
     let eps: Vec<Vec3> = forces.iter().map(|f| acc.angular_acceleration(f)).collect();
     let rates = match source {
         RateSource::Forces => auxiliary_rate(t_s, &eps, w0)?,
         RateSource::Gyro(gyr) => {
             if gyr.len() != t_s.len() {
-                return Err(Error::new(ErrorKind::InvalidInput, "gyro and forces differ in length"));
+                return Err(Error::new(
+                    ErrorKind::InvalidInput,
+                    "gyro and forces differ in length",
+                ));
             }
             check_times(t_s)?;
             gyr.to_vec()
@@ -148,7 +162,10 @@ mod tests {
         let w = auxiliary_rate(&t, &lin, Vec3::new(0.1, 0.0, 0.0)).unwrap();
         assert_relative_eq!(w[100], Vec3::new(0.1 + 1.0, -1.0, 0.5), epsilon = 1e-12);
         // cos integrates to sin with error h²/12·|Δ(sin')|
-        let cosv: Vec<Vec3> = t.iter().map(|&t| Vec3::new((5.0 * t).cos(), 0.0, 0.0)).collect();
+        let cosv: Vec<Vec3> = t
+            .iter()
+            .map(|&t| Vec3::new((5.0 * t).cos(), 0.0, 0.0))
+            .collect();
         let w = auxiliary_rate(&t, &cosv, Vec3::zeros()).unwrap();
         let exact = (5.0f64).sin() / 5.0;
         let err = (w[100].x - exact).abs();
@@ -163,17 +180,40 @@ mod tests {
         let n = (1.0 / h).round() as usize + 1;
         let t: Vec<f64> = (0..n).map(|i| i as f64 * h).collect();
         let truth: Vec<_> = t.iter().map(|&t| motion.truth(t)).collect();
-        let forces: Vec<Forces> =
-            truth.iter().map(|s| acc.forces(&s.specific_force(G0), &s.ang_acc_rad_s2)).collect();
+        let forces: Vec<Forces> = truth
+            .iter()
+            .map(|s| acc.forces(&s.specific_force(G0), &s.ang_acc_rad_s2))
+            .collect();
         let gyr: Vec<Vec3> = truth.iter().map(|s| s.gyr_rad_s).collect();
-        let src = if gyro { RateSource::Gyro(&gyr) } else { RateSource::Forces };
-        let d = decouple(&acc, &t, &forces, src, truth[0].attitude, truth[0].gyr_rad_s, G0).unwrap();
+        let src = if gyro {
+            RateSource::Gyro(&gyr)
+        } else {
+            RateSource::Forces
+        };
+        let d = decouple(
+            &acc,
+            &t,
+            &forces,
+            src,
+            truth[0].attitude,
+            truth[0].gyr_rad_s,
+            G0,
+        )
+        .unwrap();
         let mut e = (0.0f64, 0.0f64);
         for (s, o) in truth.iter().zip(&d) {
             e.0 = e.0.max(o.attitude.angle_to(&s.attitude));
             e.1 = e.1.max((o.lin_acc_nav_m_s2 - s.acc_m_s2).norm());
-            assert_relative_eq!(o.ang_acc_nav_rad_s2, s.attitude * s.ang_acc_rad_s2, epsilon = 1e-2);
-            assert_relative_eq!(o.specific_force_body_m_s2, s.specific_force(G0), epsilon = 1e-9);
+            assert_relative_eq!(
+                o.ang_acc_nav_rad_s2,
+                s.attitude * s.ang_acc_rad_s2,
+                epsilon = 1e-2
+            );
+            assert_relative_eq!(
+                o.specific_force_body_m_s2,
+                s.specific_force(G0),
+                epsilon = 1e-9
+            );
         }
         e
     }

@@ -49,7 +49,7 @@
 //! [`super::analysis`]) and the fault is large enough to violate every
 //! relation it touches; the general scheme also isolates the rest.
 
-use super::equations::{source_relations, Relation};
+use super::equations::{Relation, source_relations};
 use super::fault_set::FaultSet;
 use super::model::{Forces, SixAxisAccelerometer};
 use crate::{Error, ErrorKind, Result};
@@ -70,7 +70,10 @@ impl NoiseModel {
     /// (2·10⁻⁴ of the 1 N weight of the cube) and 2 mrad/s per gyro axis
     /// (0.11 °/s, a tactical MEMS gyro's white noise at that rate).
     pub fn reference() -> Self {
-        Self { force_sigma_n: 2.0e-4, gyro_sigma_rad_s: 2.0e-3 }
+        Self {
+            force_sigma_n: 2.0e-4,
+            gyro_sigma_rad_s: 2.0e-3,
+        }
     }
 }
 
@@ -79,7 +82,7 @@ impl NoiseModel {
 pub struct DiagnosisConfig {
     /// Samples per residual block (≥ 2); default 10 (10 ms at 1 kHz).
     pub block_len: usize,
-    /// Blocks per decision window (≥ 1); default 5 (50 ms at 1 kHz).
+    /// Blocks per decision window (≥ 1); default 10 (100 ms at 1 kHz).
     pub window_blocks: usize,
     /// False-alarm probability per chi-square test; default 10⁻⁶.
     pub false_alarm_prob: f64,
@@ -89,7 +92,12 @@ pub struct DiagnosisConfig {
 
 impl Default for DiagnosisConfig {
     fn default() -> Self {
-        Self { block_len: 10, window_blocks: 5, false_alarm_prob: 1e-6, max_faults: 4 }
+        Self {
+            block_len: 10,
+            window_blocks: 10,
+            false_alarm_prob: 1e-6,
+            max_faults: 4,
+        }
     }
 }
 
@@ -124,7 +132,13 @@ impl Verdict {
             Verdict::NoFault => "none".into(),
             Verdict::Faulty(s) => s.to_string(),
             Verdict::Ambiguous(v) => {
-                format!("ambiguous({})", v.iter().map(|s| s.to_string()).collect::<Vec<_>>().join("|"))
+                format!(
+                    "ambiguous({})",
+                    v.iter()
+                        .map(|s| s.to_string())
+                        .collect::<Vec<_>>()
+                        .join("|")
+                )
             }
             Verdict::Unexplained => "unexplained".into(),
         }
@@ -158,12 +172,35 @@ struct Candidate {
 /// Upper quantile of the standard normal distribution: `z` with
 /// `P(Z > z) = p` (Acklam's rational approximation, |error| < 1.2·10⁻⁹).
 pub fn normal_upper_quantile(p: f64) -> f64 {
-    const A: [f64; 6] =
-        [-3.969683028665376e1, 2.209460984245205e2, -2.759285104469687e2, 1.383577518672690e2, -3.066479806614716e1, 2.506628277459239];
-    const B: [f64; 5] = [-5.447609879822406e1, 1.615858368580409e2, -1.556989798598866e2, 6.680131188771972e1, -1.328068155288572e1];
-    const C: [f64; 6] =
-        [-7.784894002430293e-3, -3.223964580411365e-1, -2.400758277161838, -2.549732539343734, 4.374664141464968, 2.938163982698783];
-    const D: [f64; 4] = [7.784695709041462e-3, 3.224671290700398e-1, 2.445134137142996, 3.754408661907416];
+    const A: [f64; 6] = [
+        -3.969683028665376e1,
+        2.209460984245205e2,
+        -2.759285104469687e2,
+        1.383_577_518_672_69e2,
+        -3.066479806614716e1,
+        2.506628277459239,
+    ];
+    const B: [f64; 5] = [
+        -5.447609879822406e1,
+        1.615858368580409e2,
+        -1.556989798598866e2,
+        6.680131188771972e1,
+        -1.328068155288572e1,
+    ];
+    const C: [f64; 6] = [
+        -7.784894002430293e-3,
+        -3.223964580411365e-1,
+        -2.400758277161838,
+        -2.549732539343734,
+        4.374664141464968,
+        2.938163982698783,
+    ];
+    const D: [f64; 4] = [
+        7.784695709041462e-3,
+        3.224671290700398e-1,
+        2.445134137142996,
+        3.754408661907416,
+    ];
     // Acklam's algorithm gives the lower quantile x(q), P(Z < x) = q; z = −x(p)
     let lower = |q: f64| -> f64 {
         let plow = 0.02425;
@@ -214,16 +251,27 @@ pub struct Diagnoser {
 impl Diagnoser {
     /// Set up the residual covariance, the candidate projections and the
     /// thresholds for samples `step_s` apart.
-    pub fn new(acc: &SixAxisAccelerometer, noise: &NoiseModel, cfg: &DiagnosisConfig, step_s: f64) -> Result<Self> {
+    pub fn new(
+        acc: &SixAxisAccelerometer,
+        noise: &NoiseModel,
+        cfg: &DiagnosisConfig,
+        step_s: f64,
+    ) -> Result<Self> {
         let bad = |m: String| Err(Error::new(ErrorKind::InvalidInput, m));
         if cfg.block_len < 2 {
-            return bad(format!("block length must be at least 2 samples, got {}", cfg.block_len));
+            return bad(format!(
+                "block length must be at least 2 samples, got {}",
+                cfg.block_len
+            ));
         }
         if cfg.window_blocks < 1 {
             return bad("window must hold at least one block".into());
         }
         if !(cfg.false_alarm_prob > 0.0 && cfg.false_alarm_prob < 0.5) {
-            return bad(format!("false-alarm probability must be in (0, 0.5), got {}", cfg.false_alarm_prob));
+            return bad(format!(
+                "false-alarm probability must be in (0, 0.5), got {}",
+                cfg.false_alarm_prob
+            ));
         }
         if !(1..=5).contains(&cfg.max_faults) {
             return bad(format!("max faults must be 1–5, got {}", cfg.max_faults));
@@ -249,10 +297,16 @@ impl Diagnoser {
         for i in 3..6 {
             r_cov[(i, i)] += 2.0 * (c * noise.gyro_sigma_rad_s / t_block).powi(2);
         }
-        let chol = r_cov
-            .cholesky()
-            .ok_or_else(|| Error::new(ErrorKind::Degenerate, "residual covariance is not positive definite"))?;
-        let whiten = chol.l().try_inverse().ok_or_else(|| Error::new(ErrorKind::Degenerate, "singular covariance"))?;
+        let chol = r_cov.cholesky().ok_or_else(|| {
+            Error::new(
+                ErrorKind::Degenerate,
+                "residual covariance is not positive definite",
+            )
+        })?;
+        let whiten = chol
+            .l()
+            .try_inverse()
+            .ok_or_else(|| Error::new(ErrorKind::Degenerate, "singular covariance"))?;
         let m = cfg.window_blocks;
         let alpha = cfg.false_alarm_prob;
         let mut candidates = Vec::new();
@@ -276,7 +330,12 @@ impl Diagnoser {
                 }
                 let dof_per_block = 6 - rank;
                 let threshold = chi2_upper_quantile(m * dof_per_block, alpha);
-                candidates.push(Candidate { set, perp, dof_per_block, threshold });
+                candidates.push(Candidate {
+                    set,
+                    perp,
+                    dof_per_block,
+                    threshold,
+                });
             }
         }
         let relations = source_relations(acc);
@@ -291,7 +350,10 @@ impl Diagnoser {
                 l
             })
             .collect();
-        let rel_var = rel_lambda.iter().map(|l| (l.transpose() * r_cov * l)[0]).collect();
+        let rel_var = rel_lambda
+            .iter()
+            .map(|l| (l.transpose() * r_cov * l)[0])
+            .collect();
         let mut signatures = Vec::new();
         for k in 1..=cfg.max_faults {
             for set in FaultSet::all_of_size(k) {
@@ -344,7 +406,12 @@ impl Diagnoser {
     }
 
     /// Decide on a window of block residuals (both schemes).
-    pub fn decide(&self, blocks: &[SVector<f64, 6>], t_start_s: f64, t_end_s: f64) -> WindowDiagnosis {
+    pub fn decide(
+        &self,
+        blocks: &[SVector<f64, 6>],
+        t_start_s: f64,
+        t_end_s: f64,
+    ) -> WindowDiagnosis {
         let mut scatter = SMatrix::<f64, 6, 6>::zeros();
         for r in blocks {
             let w = self.whiten * r;
@@ -353,7 +420,11 @@ impl Diagnoser {
         let m = blocks.len();
         // thresholds are precomputed for full windows; a shorter one gets its own
         let thr = |full: f64, dof_per_block: usize| {
-            if m == self.cfg.window_blocks { full } else { chi2_upper_quantile(dof_per_block * m, self.cfg.false_alarm_prob) }
+            if m == self.cfg.window_blocks {
+                full
+            } else {
+                chi2_upper_quantile(dof_per_block * m, self.cfg.false_alarm_prob)
+            }
         };
         let j_empty = scatter.trace();
         let thr_empty = thr(self.empty_threshold, 6);
@@ -392,8 +463,12 @@ impl Diagnoser {
         } else {
             let mut v = Verdict::Unexplained;
             for k in 1..=self.cfg.max_faults {
-                let m: Vec<FaultSet> =
-                    self.signatures.iter().filter(|(s, g)| s.len() == k && *g == sig).map(|(s, _)| *s).collect();
+                let m: Vec<FaultSet> = self
+                    .signatures
+                    .iter()
+                    .filter(|(s, g)| s.len() == k && *g == sig)
+                    .map(|(s, _)| *s)
+                    .collect();
                 match m.len() {
                     0 => continue,
                     1 => v = Verdict::Faulty(m[0]),
@@ -403,7 +478,14 @@ impl Diagnoser {
             }
             v
         };
-        WindowDiagnosis { t_start_s, t_end_s, general, source, detection_ratio: j_empty / thr_empty, violated }
+        WindowDiagnosis {
+            t_start_s,
+            t_end_s,
+            general,
+            source,
+            detection_ratio: j_empty / thr_empty,
+            violated,
+        }
     }
 }
 
@@ -417,7 +499,7 @@ pub fn uniform_step(t_s: &[f64], first_line: u64) -> Result<f64> {
     let mut steps: Vec<f64> = Vec::with_capacity(t_s.len() - 1);
     for (i, w) in t_s.windows(2).enumerate() {
         let h = w[1] - w[0];
-        if !(h > 0.0) {
+        if h.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(Error::new(
                 ErrorKind::TimeNotIncreasing,
                 format!("time does not increase: {} s after {} s", w[1], w[0]),
@@ -433,7 +515,10 @@ pub fn uniform_step(t_s: &[f64], first_line: u64) -> Result<f64> {
     if let Some(i) = steps.iter().position(|&h| (h - med).abs() > 0.2 * med) {
         return Err(Error::new(
             ErrorKind::InvalidInput,
-            format!("sample step {} s differs from the median {} s by more than 20% (gap or jitter)", steps[i], med),
+            format!(
+                "sample step {} s differs from the median {} s by more than 20% (gap or jitter)",
+                steps[i], med
+            ),
         )
         .at_line(first_line + i as u64 + 1)
         .at_column("t_s"));
@@ -451,7 +536,10 @@ pub fn diagnose_record(
     gyr: &[Vec3],
 ) -> Result<Vec<WindowDiagnosis>> {
     if t_s.len() != forces.len() || t_s.len() != gyr.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, "times, forces and gyro differ in length"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "times, forces and gyro differ in length",
+        ));
     }
     let l = diag.cfg.block_len;
     let nb = t_s.len() / l;
@@ -459,7 +547,13 @@ pub fn diagnose_record(
     if nb < m {
         return Err(Error::new(
             ErrorKind::Empty,
-            format!("record too short: {} samples, a decision needs {} ({} blocks of {})", t_s.len(), m * l, m, l),
+            format!(
+                "record too short: {} samples, a decision needs {} ({} blocks of {})",
+                t_s.len(),
+                m * l,
+                m,
+                l
+            ),
         ));
     }
     let blocks: Vec<SVector<f64, 6>> = (0..nb)
@@ -499,6 +593,10 @@ mod tests {
         assert_eq!(e.line, Some(5));
         let e = uniform_step(&[0.0, 0.001, 0.002, 0.010, 0.011], 2).unwrap_err();
         assert_eq!(e.line, Some(5));
-        assert_relative_eq!(uniform_step(&[0.0, 0.001, 0.002], 2).unwrap(), 0.001, epsilon = 1e-15);
+        assert_relative_eq!(
+            uniform_step(&[0.0, 0.001, 0.002], 2).unwrap(),
+            0.001,
+            epsilon = 1e-15
+        );
     }
 }

@@ -24,7 +24,7 @@
 //! equations of the source's scheme ([`source_relations`]).
 
 use super::fault_set::FaultSet;
-use super::model::{Forces, SixAxisAccelerometer, N_CHAINS};
+use super::model::{Forces, N_CHAINS, SixAxisAccelerometer};
 use clino_core::Vec3;
 use nalgebra::{SMatrix, SVector};
 
@@ -60,15 +60,31 @@ pub fn base_residuals(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3) -> SVe
 fn support(p: &SMatrix<f64, 6, 9>, lambda: &SVector<f64, 6>) -> FaultSet {
     let row = lambda.transpose() * p;
     let scale = row.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    FaultSet((0..N_CHAINS).filter(|&i| row[i].abs() > 1e-9 * scale).fold(0, |m, i| m | (1 << i)))
+    FaultSet(
+        (0..N_CHAINS)
+            .filter(|&i| row[i].abs() > 1e-9 * scale)
+            .fold(0, |m, i| m | (1 << i)),
+    )
 }
 
 /// The combination of base rows `r1`, `r2` with unit coefficient on chain
 /// `target` and zero on chain `elim` (solving a gyro pair, eq 13).
-fn pair_solution(p: &SMatrix<f64, 6, 9>, r1: usize, r2: usize, target: usize, elim: usize) -> SVector<f64, 6> {
+fn pair_solution(
+    p: &SMatrix<f64, 6, 9>,
+    r1: usize,
+    r2: usize,
+    target: usize,
+    elim: usize,
+) -> SVector<f64, 6> {
     // u·p[r1] + v·p[r2]: zero at elim, one at target
-    let m = nalgebra::Matrix2::new(p[(r1, elim)], p[(r2, elim)], p[(r1, target)], p[(r2, target)]);
-    let uv = m.try_inverse().expect("pair equations are independent") * nalgebra::Vector2::new(0.0, 1.0);
+    let m = nalgebra::Matrix2::new(
+        p[(r1, elim)],
+        p[(r2, elim)],
+        p[(r1, target)],
+        p[(r2, target)],
+    );
+    let uv =
+        m.try_inverse().expect("pair equations are independent") * nalgebra::Vector2::new(0.0, 1.0);
     let mut l = SVector::<f64, 6>::zeros();
     l[r1] = uv[0];
     l[r2] = uv[1];
@@ -82,7 +98,11 @@ pub fn base_relations(acc: &SixAxisAccelerometer) -> Vec<Relation> {
     for (k, name) in ["a", "b", "c", "d/g", "e/h", "f/i"].iter().enumerate() {
         let mut l = SVector::<f64, 6>::zeros();
         l[k] = 1.0;
-        out.push(Relation { name: name.to_string(), lambda: l, chains: support(&p, &l) });
+        out.push(Relation {
+            name: name.to_string(),
+            lambda: l,
+            chains: support(&p, &l),
+        });
     }
     // (name, compat row, gyro row, target chain, eliminated partner), zero-based chains
     let forms = [
@@ -95,7 +115,11 @@ pub fn base_relations(acc: &SixAxisAccelerometer) -> Vec<Relation> {
     ];
     for (name, r1, r2, t, e) in forms {
         let l = pair_solution(&p, r1, r2, t, e);
-        out.push(Relation { name: name.to_string(), lambda: l, chains: support(&p, &l) });
+        out.push(Relation {
+            name: name.to_string(),
+            lambda: l,
+            chains: support(&p, &l),
+        });
     }
     out
 }
@@ -110,7 +134,9 @@ pub fn source_relations(acc: &SixAxisAccelerometer) -> Vec<Relation> {
     let compat_names = ["a", "b", "c"];
     for rel in base.iter().skip(6) {
         // the compat row the closed form was built from
-        let own = (0..3).find(|&k| rel.lambda[k] != 0.0).expect("closed form uses a compatibility row");
+        let own = (0..3)
+            .find(|&k| rel.lambda[k] != 0.0)
+            .expect("closed form uses a compatibility row");
         for x in [0usize, 4, 8] {
             if !rel.chains.contains(x) {
                 continue;
@@ -171,12 +197,15 @@ mod tests {
     use approx::assert_relative_eq;
 
     fn uneven() -> SixAxisAccelerometer {
-        let k: [f64; 9] = std::array::from_fn(|i| 2.0e7 * (1.0 + 0.05 * ((i * 5 % 9) as f64 - 4.0)));
+        let k: [f64; 9] =
+            std::array::from_fn(|i| 2.0e7 * (1.0 + 0.05 * ((i * 5 % 9) as f64 - 4.0)));
         SixAxisAccelerometer::new(0.08, 0.011, k).unwrap()
     }
 
     fn digits(rels: &[Relation]) -> Vec<String> {
-        rels.iter().map(|r| format!("{}:{}", r.name, r.chains)).collect()
+        rels.iter()
+            .map(|r| format!("{}:{}", r.name, r.chains))
+            .collect()
     }
 
     #[test]
@@ -185,7 +214,10 @@ mod tests {
         let b = base_relations(&acc);
         assert_eq!(
             digits(&b),
-            ["a:1245", "b:1379", "c:5689", "d/g:24", "e/h:37", "f/i:68", "j:125", "k:145", "l:139", "m:179", "n:569", "o:589"]
+            [
+                "a:1245", "b:1379", "c:5689", "d/g:24", "e/h:37", "f/i:68", "j:125", "k:145",
+                "l:139", "m:179", "n:569", "o:589"
+            ]
         );
         let s = source_relations(&acc);
         assert_eq!(s.len(), 24);
@@ -221,6 +253,11 @@ mod tests {
         bad[1] += 0.3;
         bad[2] = 0.0;
         bad[8] *= -2.0;
-        assert_relative_eq!(restore_eq14(&acc, &bad, &eps), truth, max_relative = 1e-9, epsilon = 1e-12);
+        assert_relative_eq!(
+            restore_eq14(&acc, &bad, &eps),
+            truth,
+            max_relative = 1e-9,
+            epsilon = 1e-12
+        );
     }
 }

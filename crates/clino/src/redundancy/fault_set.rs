@@ -21,9 +21,15 @@ impl FaultSet {
     /// Parse "2,3,9", "2 3 9" or "239" (chain numbers 1–9).
     pub fn parse(s: &str) -> Result<Self> {
         let mut m = 0u16;
-        let digits: Vec<char> = s.chars().filter(|c| !matches!(c, ',' | ' ' | ';')).collect();
+        let digits: Vec<char> = s
+            .chars()
+            .filter(|c| !matches!(c, ',' | ' ' | ';'))
+            .collect();
         if digits.is_empty() {
-            return Err(Error::new(ErrorKind::InvalidInput, format!("no chain numbers in '{s}'")));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("no chain numbers in '{s}'"),
+            ));
         }
         for c in digits {
             match c.to_digit(10) {
@@ -71,7 +77,10 @@ impl FaultSet {
 
     /// All sets of exactly `k` chains, in lexicographic order of their digits.
     pub fn all_of_size(k: usize) -> Vec<FaultSet> {
-        let mut v: Vec<FaultSet> = (0u16..1 << N_CHAINS).map(FaultSet).filter(|s| s.len() == k).collect();
+        let mut v: Vec<FaultSet> = (0u16..1 << N_CHAINS)
+            .map(FaultSet)
+            .filter(|s| s.len() == k)
+            .collect();
         v.sort_by_key(|s| s.to_string());
         v
     }

@@ -76,15 +76,51 @@ pub struct Chain {
 
 /// The nine chains in the source's numbering (index 0 is chain 1); see the module table.
 pub const CHAINS: [Chain; N_CHAINS] = [
-    Chain { joint: 0, axis: 2, sign: 1.0 },
-    Chain { joint: 0, axis: 1, sign: -1.0 },
-    Chain { joint: 0, axis: 0, sign: -1.0 },
-    Chain { joint: 1, axis: 2, sign: -1.0 },
-    Chain { joint: 1, axis: 1, sign: 1.0 },
-    Chain { joint: 1, axis: 0, sign: -1.0 },
-    Chain { joint: 2, axis: 2, sign: -1.0 },
-    Chain { joint: 2, axis: 1, sign: -1.0 },
-    Chain { joint: 2, axis: 0, sign: 1.0 },
+    Chain {
+        joint: 0,
+        axis: 2,
+        sign: 1.0,
+    },
+    Chain {
+        joint: 0,
+        axis: 1,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 0,
+        axis: 0,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 1,
+        axis: 2,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 1,
+        axis: 1,
+        sign: 1.0,
+    },
+    Chain {
+        joint: 1,
+        axis: 0,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 2,
+        axis: 2,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 2,
+        axis: 1,
+        sign: -1.0,
+    },
+    Chain {
+        joint: 2,
+        axis: 0,
+        sign: 1.0,
+    },
 ];
 
 /// The normal chains (1, 5, 9), zero-based.
@@ -114,7 +150,10 @@ impl SixAxisAccelerometer {
     pub fn new(mass_kg: f64, half_edge_m: f64, stiffness_n_m: [f64; N_CHAINS]) -> Result<Self> {
         let ok = |v: f64| v.is_finite() && v > 0.0;
         if !ok(mass_kg) {
-            return Err(Error::new(ErrorKind::InvalidInput, format!("cube mass must be positive, got {mass_kg} kg")));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("cube mass must be positive, got {mass_kg} kg"),
+            ));
         }
         if !ok(half_edge_m) {
             return Err(Error::new(
@@ -125,17 +164,29 @@ impl SixAxisAccelerometer {
         if let Some(i) = stiffness_n_m.iter().position(|&k| !ok(k)) {
             return Err(Error::new(
                 ErrorKind::InvalidInput,
-                format!("stiffness k{} must be positive, got {} N/m", i + 1, stiffness_n_m[i]),
+                format!(
+                    "stiffness k{} must be positive, got {} N/m",
+                    i + 1,
+                    stiffness_n_m[i]
+                ),
             ));
         }
-        Ok(Self { mass_kg, half_edge_m, stiffness_n_m })
+        Ok(Self {
+            mass_kg,
+            half_edge_m,
+            stiffness_n_m,
+        })
     }
 
     /// The reference device used by clino's simulations and defaults: a steel
     /// cube of 24 mm edge (`m` = 0.1 kg, `n` = 12 mm) on nine piezo stacks of
     /// 2·10⁷ N/m.
     pub fn reference() -> Self {
-        Self { mass_kg: 0.1, half_edge_m: 0.012, stiffness_n_m: [2.0e7; N_CHAINS] }
+        Self {
+            mass_kg: 0.1,
+            half_edge_m: 0.012,
+            stiffness_n_m: [2.0e7; N_CHAINS],
+        }
     }
 
     /// Moment of inertia of the solid cube about any axis through its centre,
@@ -192,7 +243,11 @@ impl SixAxisAccelerometer {
 
     /// Joint positions `b1, b2, b3` for the chain forces `f` (eq 9), m.
     pub fn joint_positions(&self, f: &Forces) -> [Vec3; 3] {
-        let mut b = [self.joint_nominal(0), self.joint_nominal(1), self.joint_nominal(2)];
+        let mut b = [
+            self.joint_nominal(0),
+            self.joint_nominal(1),
+            self.joint_nominal(2),
+        ];
         for (i, c) in CHAINS.iter().enumerate() {
             b[c.joint][c.axis] += c.sign * f[i] / self.stiffness_n_m[i];
         }
@@ -319,7 +374,11 @@ mod tests {
         let acc = SixAxisAccelerometer::reference();
         let f = acc.forces(&Vec3::new(0.0, 0.0, G0), &Vec3::zeros());
         assert_relative_eq!(f[0] - f[3] - f[6], acc.mass_kg * G0, epsilon = 1e-12);
-        assert_relative_eq!(acc.specific_force(&f), Vec3::new(0.0, 0.0, G0), epsilon = 1e-12);
+        assert_relative_eq!(
+            acc.specific_force(&f),
+            Vec3::new(0.0, 0.0, G0),
+            epsilon = 1e-12
+        );
         assert_relative_eq!(acc.angular_acceleration(&f), Vec3::zeros(), epsilon = 1e-9);
     }
 
@@ -378,14 +437,24 @@ mod tests {
         // order change equals the eq 10 residuals (scaled by the geometry).
         let acc = uneven();
         let n = acc.half_edge_m;
-        let rigid = stiffness_model(&acc, &Vec3::new(3.0, -2.0, 8.0), &Vec3::new(50.0, 10.0, -30.0));
+        let rigid = stiffness_model(
+            &acc,
+            &Vec3::new(3.0, -2.0, 8.0),
+            &Vec3::new(50.0, 10.0, -30.0),
+        );
         let arbitrary = Forces::from_fn(|i, _| ((i * 7 + 3) as f64).cos());
         for (f, expect_zero) in [(rigid, true), (arbitrary, false)] {
             let s = 1.0e3; // scale so deformations are ~0.05 mm
             let b = acc.joint_positions(&(f * s));
-            let d = [(b[0] - b[1]).norm(), (b[0] - b[2]).norm(), (b[1] - b[2]).norm()];
+            let d = [
+                (b[0] - b[1]).norm(),
+                (b[0] - b[2]).norm(),
+                (b[1] - b[2]).norm(),
+            ];
             let c = acc.compatibility(&(f * s));
-            let dmax = (0..9).map(|i| (f[i] * s / acc.stiffness_n_m[i]).abs()).fold(0.0, f64::max);
+            let dmax = (0..9)
+                .map(|i| (f[i] * s / acc.stiffness_n_m[i]).abs())
+                .fold(0.0, f64::max);
             for r in 0..3 {
                 let change = d[r] - 2f64.sqrt() * n;
                 // |b_i − b_j| ≈ √2 n − (first-order term) = √2 n − c_r / √2
@@ -407,7 +476,11 @@ mod tests {
         let r = acc.parity() * f;
         for i in 0..3 {
             assert!(r[i].abs() < 1e-18);
-            assert_relative_eq!(r[3 + i], acc.pair_coefficient() * eps[i], max_relative = 1e-9);
+            assert_relative_eq!(
+                r[3 + i],
+                acc.pair_coefficient() * eps[i],
+                max_relative = 1e-9
+            );
         }
     }
 

@@ -16,8 +16,10 @@
 //! non-numeric cell, NaN or infinity is an error naming the file, line and
 //! column; nothing is skipped.
 
-use super::diagnose::{diagnose_record, uniform_step, DiagnosisConfig, Diagnoser, NoiseModel, WindowDiagnosis};
-use super::model::{Forces, SixAxisAccelerometer, N_CHAINS};
+use super::diagnose::{
+    Diagnoser, DiagnosisConfig, NoiseModel, WindowDiagnosis, diagnose_record, uniform_step,
+};
+use super::model::{Forces, N_CHAINS, SixAxisAccelerometer};
 use crate::{Error, ErrorKind, Result};
 use clino_core::Vec3;
 use std::io::{Read, Write};
@@ -63,23 +65,49 @@ pub fn read_csv(path: &Path) -> Result<Recording> {
 
 /// Read a recording from any reader; `name` is used in error messages.
 pub fn read_csv_from<R: Read>(reader: R, name: &Path) -> Result<Recording> {
-    let mut rdr = csv::ReaderBuilder::new().comment(Some(b'#')).trim(csv::Trim::All).from_reader(reader);
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .from_reader(reader);
     let header = rdr
         .byte_headers()
-        .map_err(|e| Error::new(ErrorKind::Parse, format!("header: {e}")).in_file(name).at_line(1))?
+        .map_err(|e| {
+            Error::new(ErrorKind::Parse, format!("header: {e}"))
+                .in_file(name)
+                .at_line(1)
+        })?
         .clone();
-    let names: Vec<String> = header.iter().map(|h| String::from_utf8_lossy(h).into_owned()).collect();
+    let names: Vec<String> = header
+        .iter()
+        .map(|h| String::from_utf8_lossy(h).into_owned())
+        .collect();
     let mut idx = [0usize; 13];
     for (k, col) in COLUMNS.iter().enumerate() {
-        idx[k] = names.iter().position(|n| n.eq_ignore_ascii_case(col)).ok_or_else(|| {
-            Error::new(ErrorKind::MissingColumn, format!("required column '{col}' not in the header ({})", names.join(",")))
+        idx[k] = names
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(col))
+            .ok_or_else(|| {
+                Error::new(
+                    ErrorKind::MissingColumn,
+                    format!(
+                        "required column '{col}' not in the header ({})",
+                        names.join(",")
+                    ),
+                )
                 .in_file(name)
                 .at_line(1)
                 .at_column(*col)
-        })?;
+            })?;
     }
-    let ignored = names.iter().filter(|n| !COLUMNS.iter().any(|c| n.eq_ignore_ascii_case(c))).cloned().collect();
-    let mut rec = Recording { ignored_columns: ignored, ..Default::default() };
+    let ignored = names
+        .iter()
+        .filter(|n| !COLUMNS.iter().any(|c| n.eq_ignore_ascii_case(c)))
+        .cloned()
+        .collect();
+    let mut rec = Recording {
+        ignored_columns: ignored,
+        ..Default::default()
+    };
     let mut row = csv::ByteRecord::new();
     loop {
         let more = rdr.read_byte_record(&mut row).map_err(|e| {
@@ -102,16 +130,22 @@ pub fn read_csv_from<R: Read>(reader: R, name: &Path) -> Result<Recording> {
             let cell = row.get(idx[k]).unwrap_or(b"");
             let text = std::str::from_utf8(cell).unwrap_or("").trim();
             let x: f64 = text.parse().map_err(|_| {
-                Error::new(ErrorKind::Parse, format!("not a number: '{}'", String::from_utf8_lossy(cell)))
-                    .in_file(name)
-                    .at_line(line)
-                    .at_column(*col)
+                Error::new(
+                    ErrorKind::Parse,
+                    format!("not a number: '{}'", String::from_utf8_lossy(cell)),
+                )
+                .in_file(name)
+                .at_line(line)
+                .at_column(*col)
             })?;
             if !x.is_finite() {
-                return Err(Error::new(ErrorKind::InvalidInput, format!("value must be finite, got {text}"))
-                    .in_file(name)
-                    .at_line(line)
-                    .at_column(*col));
+                return Err(Error::new(
+                    ErrorKind::InvalidInput,
+                    format!("value must be finite, got {text}"),
+                )
+                .in_file(name)
+                .at_line(line)
+                .at_column(*col));
             }
             v[k] = x;
         }
@@ -221,15 +255,27 @@ fn summarize(
                 None => v.push((l, 1)),
             }
         }
-        v.into_iter().max_by_key(|(_, c)| *c).map_or("none".to_string(), |(l, _)| l)
+        v.into_iter()
+            .max_by_key(|(_, c)| *c)
+            .map_or("none".to_string(), |(l, _)| l)
     };
     RecordingDiagnosis {
         samples,
         step_s,
         windows: w.len(),
         first_alarm_s: w.iter().find(|x| x.general.alarm()).map(|x| x.t_end_s),
-        diagnosed: most(w.iter().filter(|x| x.general.alarm()).map(|x| x.general.label()).collect()),
-        diagnosed_source: most(w.iter().filter(|x| x.source.alarm()).map(|x| x.source.label()).collect()),
+        diagnosed: most(
+            w.iter()
+                .filter(|x| x.general.alarm())
+                .map(|x| x.general.label())
+                .collect(),
+        ),
+        diagnosed_source: most(
+            w.iter()
+                .filter(|x| x.source.alarm())
+                .map(|x| x.source.label())
+                .collect(),
+        ),
         segments,
         config: *cfg,
         noise: *noise,
@@ -259,7 +305,10 @@ mod tests {
         assert_eq!(e.file.as_deref(), Some(Path::new("rec.csv")));
         let text = sample_csv(&["0,1,2,3,4,5,6,7,8,9,0,0,NaN"]);
         let e = read_csv_from(text.as_bytes(), Path::new("r.csv")).unwrap_err();
-        assert_eq!((e.line, e.column.as_deref()), (Some(2), Some("gyr_z_rad_s")));
+        assert_eq!(
+            (e.line, e.column.as_deref()),
+            (Some(2), Some("gyr_z_rad_s"))
+        );
     }
 
     #[test]
@@ -308,7 +357,13 @@ mod tests {
         let back = read_csv_from(buf.as_slice(), Path::new("mem.csv")).unwrap();
         assert_eq!(back.t_s.len(), 400);
         assert!((back.forces[123] - rec.forces[123]).norm() < 1e-12);
-        let d = diagnose_recording(&acc, &NoiseModel::reference(), &DiagnosisConfig::default(), &back).unwrap();
+        let d = diagnose_recording(
+            &acc,
+            &NoiseModel::reference(),
+            &DiagnosisConfig::default(),
+            &back,
+        )
+        .unwrap();
         assert_eq!(d.diagnosed, FaultSet::parse("58").unwrap().to_string());
         assert!(d.first_alarm_s.unwrap() >= 0.2 && d.first_alarm_s.unwrap() < 0.3);
         assert_eq!(d.segments[0].general, "none");

@@ -63,9 +63,17 @@ pub fn gyro_derivative_sigma(gyro_sigma_rad_s: f64, step_s: f64, half_window: us
 
 /// Replace the chains of `fault` by the least-squares solution of the six
 /// relations `P·f = (0, c·ε*)` (eqs 10, 12) given the other chains.
-pub fn restore_exact(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3, fault: FaultSet) -> Result<Forces> {
+pub fn restore_exact(
+    acc: &SixAxisAccelerometer,
+    f: &Forces,
+    eps: &Vec3,
+    fault: FaultSet,
+) -> Result<Forces> {
     if !restorable(acc, fault) {
-        return Err(Error::new(ErrorKind::Degenerate, format!("chains {fault} cannot be restored")));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            format!("chains {fault} cannot be restored"),
+        ));
     }
     let p = acc.parity();
     let kbar = acc.stiffness_n_m.iter().sum::<f64>() / 9.0;
@@ -75,10 +83,17 @@ pub fn restore_exact(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3, fault: 
     let a = DMatrix::from_fn(6, bad.len(), |r, j| p[(r, bad[j])] * scale(r));
     let rhs = DVector::from_fn(6, |r, _| {
         let target = if r >= 3 { c * eps[r - 3] } else { 0.0 };
-        let known: f64 = fault.complement_indices().iter().map(|&i| p[(r, i)] * f[i]).sum();
+        let known: f64 = fault
+            .complement_indices()
+            .iter()
+            .map(|&i| p[(r, i)] * f[i])
+            .sum();
         (target - known) * scale(r)
     });
-    let sol = a.svd(true, true).solve(&rhs, 1e-12).map_err(|e| Error::new(ErrorKind::Degenerate, e.to_string()))?;
+    let sol = a
+        .svd(true, true)
+        .solve(&rhs, 1e-12)
+        .map_err(|e| Error::new(ErrorKind::Degenerate, e.to_string()))?;
     let mut g = *f;
     for (j, &i) in bad.iter().enumerate() {
         g[i] = sol[j];
@@ -105,7 +120,10 @@ impl Restorer {
         fault: FaultSet,
     ) -> Result<Self> {
         if !restorable(acc, fault) {
-            return Err(Error::new(ErrorKind::Degenerate, format!("chains {fault} cannot be restored")));
+            return Err(Error::new(
+                ErrorKind::Degenerate,
+                format!("chains {fault} cannot be restored"),
+            ));
         }
         let h = acc.sensitivity();
         let healthy = fault.complement_indices();
@@ -130,11 +148,17 @@ impl Restorer {
             }
         });
         let ata = a.transpose() * &a;
-        let inv = ata.try_inverse().ok_or_else(|| Error::new(ErrorKind::Degenerate, "singular restoration"))?;
+        let inv = ata
+            .try_inverse()
+            .ok_or_else(|| Error::new(ErrorKind::Degenerate, "singular restoration"))?;
         let est = inv * a.transpose() * w; // x̂ = est · (f_H, ε*)
         let bad = fault.indices();
         let hf = DMatrix::from_fn(bad.len(), 6, |r, c| h[(bad[r], c)]);
-        Ok(Self { fault, healthy, gain: hf * est })
+        Ok(Self {
+            fault,
+            healthy,
+            gain: hf * est,
+        })
     }
 
     /// The fault set this restorer replaces.
@@ -145,7 +169,13 @@ impl Restorer {
     /// Forces with the faulty chains replaced, N.
     pub fn restore(&self, f: &Forces, eps_gyro: &Vec3) -> Forces {
         let nh = self.healthy.len();
-        let y = DVector::from_fn(nh + 3, |r, _| if r < nh { f[self.healthy[r]] } else { eps_gyro[r - nh] });
+        let y = DVector::from_fn(nh + 3, |r, _| {
+            if r < nh {
+                f[self.healthy[r]]
+            } else {
+                eps_gyro[r - nh]
+            }
+        });
         let est = &self.gain * y;
         let mut g = *f;
         for (j, i) in self.fault.indices().into_iter().enumerate() {
@@ -217,7 +247,12 @@ mod tests {
                 bad[i] += 0.7;
             }
             let g = r.restore(&bad, &eps);
-            assert_relative_eq!(state(&acc, &g), state(&acc, &truth), max_relative = 1e-7, epsilon = 1e-7);
+            assert_relative_eq!(
+                state(&acc, &g),
+                state(&acc, &truth),
+                max_relative = 1e-7,
+                epsilon = 1e-7
+            );
         }
     }
 
@@ -229,6 +264,10 @@ mod tests {
         assert_relative_eq!(d[20], Vec3::new(6.0 * t[20], -1.0, 0.0), epsilon = 1e-9);
         // σ_ε = σ_ω / (h √(Σ k²)), Σ_{k=−K}^{K} k² = K(K+1)(2K+1)/3
         let sum_k2: f64 = (-5i32..=5).map(|k| (k * k) as f64).sum();
-        assert_relative_eq!(gyro_derivative_sigma(1.0, 0.002, 5), 1.0 / (0.002 * sum_k2.sqrt()), max_relative = 1e-12);
+        assert_relative_eq!(
+            gyro_derivative_sigma(1.0, 0.002, 5),
+            1.0 / (0.002 * sum_k2.sqrt()),
+            max_relative = 1e-12
+        );
     }
 }
