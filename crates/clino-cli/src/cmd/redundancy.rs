@@ -285,11 +285,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 println!("{}", serde_json::to_string_pretty(&summaries)?);
             } else {
                 println!(
-                    "kind   runs  detected  false-alarm  delay mean/max (ms)  isolated  source  agree  max restored err"
+                    "kind   runs  detected  false-alarm  delay mean/max (ms)  isolated  source  agree  source-wrong  max restored err (set)"
                 );
                 for s in &summaries {
                     println!(
-                        "{:<6} {:>4}  {:>7.1}%  {:>10.2e}  {:>8.1} / {:<8.1}  {:>8}  {:>6}  {:>5}  {:>8.3} %",
+                        "{:<6} {:>4}  {:>7.1}%  {:>10.2e}  {:>8.1} / {:<8.1}  {:>8}  {:>6}  {:>5}  {:>12}  {:>8.3} % ({})",
                         s.fault_kind.name(),
                         s.runs,
                         100.0 * s.detection_rate,
@@ -299,7 +299,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                         s.isolated,
                         s.isolated_source,
                         s.agree,
-                        100.0 * s.max_restored_linear_acc_rel_error
+                        s.source_wrong_set,
+                        100.0 * s.max_restored_linear_acc_rel_error,
+                        s.worst_restored_set
                     );
                     if !s.misdiagnosed.is_empty() {
                         println!("       misdiagnosed: {}", s.misdiagnosed.join(" "));

@@ -40,13 +40,16 @@
 //! | 4 | 126 | 96 | 120 | **36 = Table 1** | 36 |
 //!
 //! * **Table 1 is exactly the set of quadruples the source's own 24-relation
-//!   scheme isolates.** Every Table 1 quadruple is also isolable by the
-//!   general scheme, which isolates 60 more (96 in all): those with two or
-//!   more normal chains (1, 5, 9), and those where a normal chain shares each
-//!   of its compatibility equations with another faulty chain. The source's
-//!   relations always use two normal chains as references, so its scheme
-//!   cannot separate them; the full parity space can.
-//! * The 30 quadruples the general scheme cannot isolate share their fault
+//!   scheme isolates.** Every Table 1 quadruple (24 with one normal chain
+//!   1, 5 or 9; 12 with none) is also isolable by the general scheme, which
+//!   isolates 60 more (96 in all): the 36 isolable quadruples with two normal
+//!   chains, and 24 with one normal chain that shares each of its two
+//!   compatibility equations with another faulty chain (e.g. 1236: chain 1
+//!   with 2 in (a) and with 3 in (b)). The source's relations always take two
+//!   normal chains as references, so its scheme cannot separate these; the
+//!   full parity space can.
+//! * The 30 quadruples the general scheme cannot isolate (12 with one normal
+//!   chain, 9 with two, all 6 with three, 3 with none) share their fault
 //!   directions with another quadruple (e.g. 1234 and 1237, 2347 and 1234):
 //!   they are restorable if the location is known, but no residual can tell
 //!   which of the two sets failed. Three of them (2347, 2468, 3678: two

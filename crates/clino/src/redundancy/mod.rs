@@ -78,3 +78,13 @@ pub fn demo_summary() -> Result<String> {
     );
     Ok(s)
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn demo_summary_reports_the_source_example() {
+        let s = super::demo_summary().unwrap();
+        assert!(s.contains("diagnosed 239"), "{s}");
+        assert!(s.contains("reproduces it exactly: yes"), "{s}");
+    }
+}

@@ -517,6 +517,9 @@ pub struct SweepSummary {
     pub isolated_source: usize,
     /// Runs where both schemes name the injected set.
     pub agree: usize,
+    /// Runs where the source's scheme names a wrong set (rather than
+    /// "unexplained" or "ambiguous").
+    pub source_wrong_set: usize,
     /// Largest restored linear-acceleration relative error.
     pub max_restored_linear_acc_rel_error: f64,
     /// The set with that largest error.
@@ -572,6 +575,10 @@ fn summarize(kind: FaultKind, r: &[SimReport]) -> SweepSummary {
         isolated: r.iter().filter(|x| x.correct).count(),
         isolated_source: r.iter().filter(|x| x.source_correct).count(),
         agree: r.iter().filter(|x| x.correct && x.source_correct).count(),
+        source_wrong_set: r
+            .iter()
+            .filter(|x| !x.source_correct && x.diagnosed_source.chars().all(|c| c.is_ascii_digit()))
+            .count(),
         max_restored_linear_acc_rel_error: r
             .iter()
             .filter_map(|x| x.restored_linear_acc_max_rel_error)
