@@ -98,6 +98,9 @@ enum Command {
         /// Print JSON.
         #[arg(long)]
         json: bool,
+        /// Write the restored forces and body 6-D acceleration as CSV.
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -316,11 +319,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             stiffness_n_m,
             diag,
             json,
+            out,
         } => {
             let acc =
                 SixAxisAccelerometer::new(mass_kg, half_edge_m, parse_stiffness(&stiffness_n_m)?)?;
             let rec = recording::read_csv(&path)?;
             let d = recording::diagnose_recording(&acc, &diag.noise(), &diag.config(), &rec)?;
+            if let Some(p) = &out {
+                let restored = recording::restore_recording(&acc, &diag.noise(), &rec, &d, 10)?;
+                let f = std::fs::File::create(p)
+                    .with_context(|| format!("creating {}", p.display()))?;
+                recording::write_restored_csv(std::io::BufWriter::new(f), &restored)?;
+            }
             if json {
                 println!("{}", serde_json::to_string_pretty(&d)?);
             } else {

@@ -270,4 +270,29 @@ mod tests {
             max_relative = 1e-12
         );
     }
+
+    proptest::proptest! {
+        /// Any set of up to four chains, any motion, any fault values:
+        /// the exact restoration returns the true forces (case count from
+        /// PROPTEST_CASES).
+        #[test]
+        fn restores_any_set_of_up_to_four(
+            mask in 1u16..512,
+            sf in proptest::array::uniform3(-30.0f64..30.0),
+            eps in proptest::array::uniform3(-200.0f64..200.0),
+            err in proptest::array::uniform9(-2.0f64..2.0),
+        ) {
+            let s = FaultSet(mask);
+            proptest::prop_assume!(s.len() <= 4);
+            let acc = SixAxisAccelerometer::reference();
+            let eps = Vec3::from(eps);
+            let truth = acc.forces(&Vec3::from(sf), &eps);
+            let mut bad = truth;
+            for i in s.indices() {
+                bad[i] += err[i] + 0.1;
+            }
+            let g = restore_exact(&acc, &bad, &eps, s).unwrap();
+            proptest::prop_assert!((g - truth).norm() < 1e-7 * (1.0 + truth.norm()), "{s}: {}", (g - truth).norm());
+        }
+    }
 }
