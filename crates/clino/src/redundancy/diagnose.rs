@@ -14,7 +14,11 @@
 //!   duration: eq 11 over the block, i.e. eq 12 with the block-mean `ε*`.
 //!
 //! No gyro differentiation is needed, and a fault `e(t)` on the chains `F`
-//! moves the block residual by exactly `P_F·ē` (`ē` its block mean).
+//! moves the block residual by exactly `P_F·ē` (`ē` its block mean). The
+//! per-sample forms of each family are in [`super::equations`]
+//! ([`super::equations::gyro_integral_residuals`] from the first sample on,
+//! [`super::equations::gyro_derivative_residuals`],
+//! [`super::equations::closed_form_residuals`]).
 //!
 //! ## Noise model and thresholds
 //!
@@ -47,7 +51,12 @@
 //!
 //! Both schemes agree wherever the source's scheme isolates the set (see
 //! [`super::analysis`]) and the fault is large enough to violate every
-//! relation it touches; the general scheme also isolates the rest.
+//! relation it touches; the general scheme also isolates the rest. In the
+//! 165-set sweep (`clino redundancy sweep`) the source's scheme named the
+//! injected set in all 131 runs it can isolate for stuck, bias and drift
+//! faults (126 for zero-mean noise faults, whose weaker relations sometimes
+//! stay below threshold) and never named a wrong set: it answers
+//! "unexplained" or "ambiguous" instead.
 
 use super::equations::{Relation, source_relations};
 use super::fault_set::FaultSet;

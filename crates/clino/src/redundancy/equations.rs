@@ -191,6 +191,47 @@ pub fn restore_eq14(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3) -> Force
     g
 }
 
+/// Residuals of the gyro-derivative equations (eq 12 g–i) of one sample:
+/// `(−f2+f4, f3−f7, −f6+f8) − c·ε*`, N, with `c = 2mn/3` and `ε*` the
+/// derivative of the gyro (rad/s²).
+pub fn gyro_derivative_residuals(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3) -> Vec3 {
+    let r = base_residuals(acc, f, eps);
+    Vec3::new(r[3], r[4], r[5])
+}
+
+/// Residuals of the gyro-integral equations (eq 11 d–f) at every sample `N`,
+/// rad/s: `ω*_N − ω*_1 − 3/(2mn)·trapz_{1..N}(−f2+f4, f3−f7, −f6+f8)`, the
+/// source's equation with the factor `3h/(2mn)` and the initial rate that
+/// its printed form drops. A bias `b` on one chain of a gyro pair makes the
+/// residual grow as `b·t/c`.
+pub fn gyro_integral_residuals(
+    acc: &SixAxisAccelerometer,
+    t_s: &[f64],
+    forces: &[Forces],
+    gyr: &[Vec3],
+) -> Vec<Vec3> {
+    let n = t_s.len().min(forces.len()).min(gyr.len());
+    let inv_c = 1.0 / acc.pair_coefficient();
+    let pair = |f: &Forces| Vec3::new(-f[1] + f[3], f[2] - f[6], -f[5] + f[7]);
+    let mut integral = Vec3::zeros();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        if i > 0 {
+            integral += (t_s[i] - t_s[i - 1]) * 0.5 * (pair(&forces[i - 1]) + pair(&forces[i]));
+        }
+        out.push(gyr[i] - gyr[0] - integral * inv_c);
+    }
+    out
+}
+
+/// Residuals of the closed forms (eq 13 j–o): measured minus theoretical
+/// `(f2, f4, f3, f7, f6, f8)`, N.
+pub fn closed_form_residuals(acc: &SixAxisAccelerometer, f: &Forces, eps: &Vec3) -> [f64; 6] {
+    let cf = closed_forms(acc, f, eps);
+    let idx = [1, 3, 2, 6, 5, 7];
+    std::array::from_fn(|k| f[idx[k]] - cf[k])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -259,5 +300,41 @@ mod tests {
             max_relative = 1e-9,
             epsilon = 1e-12
         );
+    }
+
+    #[test]
+    fn gyro_equations_vanish_for_consistent_data_and_grow_with_a_bias() {
+        use super::super::simulate::ShakeMotion;
+        use crate::sim::Motion;
+        let acc = SixAxisAccelerometer::reference();
+        let m = ShakeMotion::default();
+        let t: Vec<f64> = (0..501).map(|i| i as f64 * 1e-3).collect();
+        let truth: Vec<_> = t.iter().map(|&t| m.truth(t)).collect();
+        let mut f: Vec<Forces> = truth
+            .iter()
+            .map(|s| acc.forces(&s.specific_force(clino_core::G0), &s.ang_acc_rad_s2))
+            .collect();
+        let gyr: Vec<Vec3> = truth.iter().map(|s| s.gyr_rad_s).collect();
+        for (s, fi) in truth.iter().zip(&f) {
+            assert!(gyro_derivative_residuals(&acc, fi, &s.ang_acc_rad_s2).norm() < 1e-12);
+            assert!(
+                closed_form_residuals(&acc, fi, &s.ang_acc_rad_s2)
+                    .iter()
+                    .all(|r| r.abs() < 1e-12)
+            );
+        }
+        let r = gyro_integral_residuals(&acc, &t, &f, &gyr);
+        // trapezoid error only: h²/12·|Δε| over 0.5 s
+        assert!(r.iter().all(|v| v.norm() < 2e-4), "{}", r[500].norm());
+        // 10 mN bias on chain 2 from t = 0.2 s: x residual grows as b·(t − 0.2)/c
+        for (i, fi) in f.iter_mut().enumerate() {
+            if t[i] >= 0.2 {
+                fi[1] += 0.01;
+            }
+        }
+        let rb = gyro_integral_residuals(&acc, &t, &f, &gyr);
+        let expect = 0.01 * 0.3 / acc.pair_coefficient();
+        assert_relative_eq!(rb[500].x - r[500].x, expect, max_relative = 1e-2);
+        assert!((rb[500].y - r[500].y).abs() < 1e-12 && (rb[500].z - r[500].z).abs() < 1e-12);
     }
 }
