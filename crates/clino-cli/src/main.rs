@@ -16,12 +16,15 @@ struct Cli {
 enum Command {
     /// Run the built-in demonstration (no files, no hardware).
     Demo(cmd::demo::Args),
+    /// Nine-chain six-axis accelerometer with a gyro: restorable sets, fault simulation, diagnosis.
+    Redundancy(cmd::redundancy::Args),
 }
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Redundancy(a) => cmd::redundancy::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -8,8 +8,9 @@
 //! * [`report`] — plots (SVG/PNG);
 //! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
 //! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
-//!   cross-coupling, Allan deviation).
-//! * [`smooth`] — offline (forward–backward) tilt for whole recordings.
+//!   cross-coupling, Allan deviation);
+//! * [`smooth`] — offline (forward–backward) tilt for whole recordings;
+//! * [`redundancy`] — nine-chain six-axis accelerometer with a gyro: decoupling, fault diagnosis, restoration.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
 //! frame, Hamilton scalar-first quaternions rotating body to navigation,
@@ -20,6 +21,7 @@ pub use clino_core as core;
 
 pub mod bench;
 pub mod error;
+pub mod redundancy;
 pub mod report;
 pub mod sim;
 pub mod smooth;
