@@ -11,11 +11,17 @@
 //!    the end;
 //! 2. a backward pass runs on the time-reversed recording (rates negated: the
 //!    reversed body turns the other way; sample k's interval is the one ending
-//!    at sample k + 1), starting from that bias, and learns the bias at the start;
-//! 3. a second forward pass starts from the bias at the start;
-//! 4. at every sample the tilt is the mean of the two up vectors (passes 2 and
-//!    3, equal weights — their errors are alike and nearly independent); the
-//!    heading is the forward pass's.
+//!    at sample k + 1), starting from the end state, and learns the bias at the start;
+//! 3. a second forward pass starts from the start state;
+//! 4. two more passes, forwards and backwards, run with the bias imposed as the
+//!    mean of the backward and second forward estimates at each sample (a
+//!    smoothed bias trajectory), each pass starting where the previous ended;
+//! 5. at every sample the tilt is the mean of the two up vectors of those passes
+//!    (equal weights — their errors are alike and nearly independent); the
+//!    heading is the forward pass's;
+//! 6. a whole-record refinement uses the mount's bounded velocity and
+//!    position: [`refine_bounded_motion`], a Kalman/Rauch–Tung–Striebel
+//!    smoother on the remaining tilt error (skip it for travelling mounts).
 //!
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
@@ -32,12 +38,56 @@ use clino_core::filter::DynamicParams as _;
 use nalgebra::UnitQuaternion;
 
 /// Options of the offline smoother.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct SmoothOptions {
     /// Parameters of the dynamic filter used in every pass.
     pub params: DynamicParams,
     /// Lever arm of the sensor from the rotation axis, m (body frame).
     pub lever_arm_m: Option<Vec3>,
+    /// The final whole-record refinement ([`refine_bounded_motion`]); `None` skips it
+    /// (for mounts that travel, e.g. vehicles).
+    pub refine: Option<BoundedMotion>,
+}
+
+impl Default for SmoothOptions {
+    fn default() -> Self {
+        Self {
+            params: DynamicParams::default(),
+            lever_arm_m: None,
+            refine: Some(BoundedMotion::default()),
+        }
+    }
+}
+
+/// What the offline refinement assumes about the mount's motion: it works in
+/// place (a hand, a machine arm, a test platform, an excavator or crane that
+/// does not travel), so over the record its horizontal velocity and its
+/// displacement from where it started stay within about these sizes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundedMotion {
+    /// Typical horizontal speed, m/s. Default 1 m/s.
+    pub speed_m_s: f64,
+    /// Typical horizontal excursion from the start, m. Default 1 m.
+    pub range_m: f64,
+    /// How far the smoothed tilt may still be wrong, rad (1σ). Default 0.5°.
+    pub tilt_sigma_rad: f64,
+    /// Correlation time of that tilt error, s. Default 10 s.
+    pub tilt_tau_s: f64,
+    /// Rate at which the velocity and position bounds are imposed, Hz. Default 10 Hz
+    /// (about the inverse correlation time of hand and machine motion).
+    pub constraint_rate_hz: f64,
+}
+
+impl Default for BoundedMotion {
+    fn default() -> Self {
+        Self {
+            speed_m_s: 1.0,
+            range_m: 1.0,
+            tilt_sigma_rad: 0.5f64.to_radians(),
+            tilt_tau_s: 10.0,
+            constraint_rate_hz: 10.0,
+        }
+    }
 }
 
 type Runner = Compensated<Dynamic>;
@@ -178,7 +228,7 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
     let (forward, _) = pass(gyr, acc, dt, false, &mut fd, Some(&bs));
     let mut fe = make(opts, Some((qc[n - 1], -bs[n - 1])), false);
     let (backward, _) = pass(gyr, acc, dt, true, &mut fe, Some(&bs));
-    forward
+    let combined: Vec<Attitude> = forward
         .iter()
         .zip(&backward)
         .map(|(qf, qb)| {
@@ -191,7 +241,126 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
             let corr = UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
             qf * corr
         })
+        .collect();
+    match &opts.refine {
+        Some(b) => refine_bounded_motion(&combined, acc, dt, b, opts.params.gravity_m_s2),
+        None => combined,
+    }
+}
+
+/// Whole-record refinement of a tilt estimate from bounded motion.
+///
+/// With the attitude estimate q̂, the horizontal specific force in the
+/// navigation frame, f̂ = (q̂ ⊗ f ⊗ q̂*)_EN, is the mount's horizontal
+/// acceleration plus g times the remaining tilt error δ = (δ_E, δ_N)
+/// (true = exp(δ) ⊗ q̂): a_E = f̂_E + g·δ_N, a_N = f̂_N − g·δ_E. Integrated
+/// once and twice it gives velocity and position, which for a mount working
+/// in place must stay near zero. Per horizontal axis this is a linear
+/// Gauss–Markov model with state (d, v, p):
+///
+/// ```text
+/// d_{k+1} = φ·d_k + w,   φ = exp(−h/τ),  Var w = σ_d²·(1 − φ²)
+/// v_{k+1} = v_k + (f̂_k + g·d_k)·h
+/// p_{k+1} = p_k + v_k·h
+/// 0 = v + n_v (σ = speed),  0 = p + n_p (σ = range), at `constraint_rate_hz`
+/// ```
+///
+/// solved exactly by a Kalman filter and a Rauch–Tung–Striebel smoother
+/// (Rauch, Tung, Striebel, AIAA J. 3(8), 1965); the smoothed d is applied as
+/// the navigation-frame correction exp(δ) ⊗ q̂. O(n) time and memory.
+pub fn refine_bounded_motion(q: &[Attitude], acc: &[Vec3], dt: &[f64], b: &BoundedMotion, g: f64) -> Vec<Attitude> {
+    let n = q.len().min(acc.len()).min(dt.len());
+    if n < 2 {
+        return q.to_vec();
+    }
+    // horizontal specific force in ENU; unusable samples contribute nothing
+    let mut fe = Vec::with_capacity(n);
+    let mut fnn = Vec::with_capacity(n);
+    let mut h = Vec::with_capacity(n);
+    for k in 0..n {
+        let f = q[k] * acc[k];
+        let ok = f.iter().all(|v| v.is_finite());
+        fe.push(if ok { f.x } else { 0.0 });
+        fnn.push(if ok { f.y } else { 0.0 });
+        h.push(if dt[k].is_finite() && dt[k] > 0.0 { dt[k] } else { 0.0 });
+    }
+    // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E)
+    let d_n = rts_axis(&fe, &h, b, g);
+    let d_e_neg = rts_axis(&fnn, &h, b, g);
+    (0..n)
+        .map(|k| {
+            let c = Vec3::new(-d_e_neg[k], d_n[k], 0.0);
+            if c.iter().all(|v| v.is_finite()) {
+                UnitQuaternion::from_scaled_axis(c) * q[k]
+            } else {
+                q[k]
+            }
+        })
+        .chain(q[n..].iter().copied())
         .collect()
+}
+
+/// Kalman filter + RTS smoother of one horizontal axis of [`refine_bounded_motion`];
+/// returns the smoothed tilt-error state d at every sample.
+fn rts_axis(f: &[f64], h: &[f64], b: &BoundedMotion, g: f64) -> Vec<f64> {
+    use nalgebra::{Matrix3, Vector3 as V3};
+    let n = f.len();
+    let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
+    let (rv, rp) = (b.speed_m_s * b.speed_m_s, b.range_m * b.range_m);
+    let mut x = V3::new(0.0, 0.0, 0.0);
+    let mut p = Matrix3::from_diagonal(&V3::new(sd2, rv, rp));
+    let mut xs_pred = Vec::with_capacity(n);
+    let mut ps_pred = Vec::with_capacity(n);
+    let mut xs = Vec::with_capacity(n);
+    let mut ps = Vec::with_capacity(n);
+    let mut fs = Vec::with_capacity(n);
+    let mut since = 0.0;
+    let period = 1.0 / b.constraint_rate_hz;
+    for k in 0..n {
+        // predict over the interval ending at sample k
+        let hk = h[k];
+        let phi = (-hk / b.tilt_tau_s).exp();
+        let fm = Matrix3::new(phi, 0.0, 0.0, g * hk, 1.0, 0.0, 0.0, hk, 1.0);
+        x = fm * x + V3::new(0.0, f[k] * hk, 0.0);
+        let mut q = Matrix3::zeros();
+        q[(0, 0)] = sd2 * (1.0 - phi * phi);
+        p = fm * p * fm.transpose() + q;
+        xs_pred.push(x);
+        ps_pred.push(p);
+        fs.push(fm);
+        // velocity and position bounds at the constraint rate
+        since += hk;
+        if since >= period {
+            since -= period;
+            for (i, r) in [(1usize, rv), (2usize, rp)] {
+                let s = p[(i, i)] + r;
+                let kgain = p.column(i) / s;
+                let innov = -x[i];
+                x += kgain * innov;
+                p -= kgain * p.row(i);
+            }
+            p = (p + p.transpose()) * 0.5;
+        }
+        xs.push(x);
+        ps.push(p);
+    }
+    // Rauch–Tung–Striebel backward pass
+    let mut out = vec![0.0; n];
+    let mut xsm = xs[n - 1];
+    let mut psm = ps[n - 1];
+    out[n - 1] = xsm[0];
+    for k in (0..n - 1).rev() {
+        let pp = ps_pred[k + 1];
+        let c = match pp.try_inverse() {
+            Some(inv) => ps[k] * fs[k + 1].transpose() * inv,
+            None => Matrix3::zeros(),
+        };
+        xsm = xs[k] + c * (xsm - xs_pred[k + 1]);
+        psm = ps[k] + c * (psm - pp) * c.transpose();
+        out[k] = xsm[0];
+    }
+    let _ = psm;
+    out
 }
 
 #[cfg(test)]
@@ -256,76 +425,5 @@ mod tests {
         let out = smooth(&g, &a, &[0.01; 10], &SmoothOptions::default());
         assert_eq!(out.len(), 10);
         assert!(out.iter().all(|q| q.w.is_finite()));
-    }
-}
-#[cfg(test)]
-mod dbg {
-    use super::*;
-    use crate::sim::{Motion, slewing::SlewingPlatform};
-    #[test]
-    fn dbg_smooth() {
-        for vib in [0.0, 0.5] {
-            let m = SlewingPlatform { vibration_m_s2: vib, vibration_rate_rad_s: vib.to_radians(), ..Default::default() };
-            let rate = 200.0;
-            let n = (90.0 * rate) as usize;
-            let (mut g, mut a, mut d, mut q) = (vec![], vec![], vec![], vec![]);
-            let mut a_exact = vec![];
-            for k in 0..n {
-                let tr = m.truth(k as f64 / rate);
-                g.push(tr.gyr_rad_s);
-                a.push(tr.specific_force(clino_core::G0));
-                a_exact.push(tr.specific_force(clino_core::G0) - clino_core::compensate::lever_arm_acceleration(&tr.gyr_rad_s, &tr.ang_acc_rad_s2, &m.lever_arm_m));
-                d.push(1.0 / rate);
-                q.push(tr.attitude);
-            }
-            let rms = |e: &[Attitude]| {
-                let s: f64 = e.iter().zip(&q).skip(2000).map(|(x, y)| { let e = x * y.inverse(); (2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()).powi(2) }).sum();
-                (s / (e.len() - 2000) as f64).sqrt().to_degrees()
-            };
-            let opts = SmoothOptions { lever_arm_m: Some(m.lever_arm_m), ..Default::default() };
-            let mut f = make(&opts, None, true);
-            let (on, _) = pass(&g, &a, &d, false, &mut f, None);
-            let mut f = make(&opts, None, true);
-            let (bw, _) = pass(&g, &a, &d, true, &mut f, None);
-            let off = smooth(&g, &a, &d, &opts);
-            let off_exact = smooth(&g, &a_exact, &d, &SmoothOptions::default());
-            let cc = compensate_centred(&g, &a, &d, &m.lever_arm_m, &Vec3::zeros());
-            let mut f0 = Compensated::new(Dynamic::default(), m.lever_arm_m);
-            for k in 0..n { f0.update(g[k], a[k], d[k]); }
-            std::println!("f0 bias {:?}", f0.gyro_bias());
-            let off_cc = smooth(&g, &cc, &d, &SmoothOptions::default());
-            std::println!("smooth of centred-zero-bias comp: {:.3}", rms(&off_cc));
-            let o = SmoothOptions::default();
-            let mut f = make(&o, None, true);
-            let (on_cc, b1) = pass(&g, &cc, &d, false, &mut f, None);
-            let mut f = make(&o, None, true);
-            let (bw_cc, b2) = pass(&g, &cc, &d, true, &mut f, None);
-            // reverse the recording explicitly and run forwards
-            let gr: Vec<Vec3> = (0..n).map(|k| { let i = n - 1 - k; -(if i + 1 < n { g[i + 1] } else { g[i] }) }).collect();
-            let ar: Vec<Vec3> = (0..n).map(|k| cc[n - 1 - k]).collect();
-            let mut f = make(&o, None, true);
-            let (rv, _) = pass(&gr, &ar, &d, false, &mut f, None);
-            let rv: Vec<Attitude> = (0..n).map(|k| rv[n - 1 - k]).collect();
-            let gr2: Vec<Vec3> = (0..n).map(|k| -g[n - 1 - k]).collect();
-            let mut f = make(&o, None, true);
-            let (rv2, _) = pass(&gr2, &ar, &d, false, &mut f, None);
-            let rv2: Vec<Attitude> = (0..n).map(|k| rv2[n - 1 - k]).collect();
-            // time-mirrored motion: truth at T - t, run forwards
-            std::println!("explicit reverse {:.3}, unshifted reverse {:.3}", rms(&rv), rms(&rv2));
-            let are: Vec<Vec3> = (0..n).map(|k| a_exact[n - 1 - k]).collect();
-            let mut f = make(&o, None, true);
-            let (rv3, _) = pass(&gr, &are, &d, false, &mut f, None);
-            let rv3r: Vec<Attitude> = (0..n).map(|k| rv3[n - 1 - k]).collect();
-            std::println!("reverse exact {:.3}", rms(&rv3r));
-            let mut line = std::string::String::new();
-            for k in (0..n).step_by(1000) { let i = n - 1 - k; let e = rv[i] * q[i].inverse(); line += &std::format!(" {:.2}", (2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()).to_degrees()); }
-            std::println!("rev err over reversed time: {line}");
-            std::println!("on cc {:.3} bw cc {:.3} b1end {:?} b2start {:?}", rms(&on_cc), rms(&bw_cc), b1[n-1], b2[0]);
-            let resid: Vec<Vec3> = cc.iter().zip(&a_exact).map(|(x, y)| x - y).collect();
-            let mean = resid.iter().sum::<Vec3>() / resid.len() as f64;
-            let rmsr = (resid.iter().map(|r| r.norm_squared()).sum::<f64>() / resid.len() as f64).sqrt();
-            std::println!("exact-comp offline {:.3}; centred residual mean {:?} rms {:.3}", rms(&off_exact), mean, rmsr);
-            std::println!("vib {vib}: online {:.3} backward {:.3} offline {:.3}", rms(&on), rms(&bw), rms(&off));
-        }
     }
 }

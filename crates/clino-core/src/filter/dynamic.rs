@@ -654,26 +654,6 @@ mod tests {
     }
 
     #[test]
-    fn dbg_vibration() {
-        let truth = UnitQuaternion::from_euler_angles(0.07, -0.08, 0.0);
-        let f_b = up_in_body(&truth) * G0;
-        for &(amp, dir) in &[(2.0, Vector3::new(0.0, -0.7, 0.72)), (2.0, Vector3::new(0.0, 1.0, 0.0)), (2.0, Vector3::new(0.0, 0.0, 1.0)), (2.0, Vector3::new(1.0, 0.0, 0.0))] {
-            let mut f = Dynamic::default();
-            let dt = 0.005;
-            let mut s2 = 0.0; let mut n = 0;
-            for k in 0..(60.0 / dt) as usize {
-                let t = k as f64 * dt;
-                let acc = f_b + dir * (amp * (2.0 * core::f64::consts::PI * 30.0 * t).sin());
-                // slow rotation about z to mimic slewing, 0.5 rad/s after 10 s
-                let w = if t > 10.0 { Vector3::new(0.0, 0.0, 0.0) } else { Vector3::zeros() };
-                f.update(w, acc, dt);
-                if t > 20.0 { s2 += tilt_err(&f.attitude(), &truth).powi(2); n += 1; }
-            }
-            std::println!("amp {amp} dir {:?}: err {:.4} rest {}", dir, (s2 / n as f64).sqrt().to_degrees(), f.at_rest());
-        }
-    }
-
-    #[test]
     fn defaults_mean_the_same_at_other_sample_rates() {
         let e100 = run(&mut Dynamic::default(), 100.0, 60.0);
         let e1000 = run(&mut Dynamic::default(), 1000.0, 60.0);

@@ -346,37 +346,3 @@ mod eval_tests {
         assert!(mh.compensated_deg * 5.0 <= mh.uncompensated_deg, "{mh:?}");
     }
 }
-#[cfg(test)]
-mod dbg_tests {
-    use super::*;
-    use clino_core::filter::Dynamic;
-    use clino_core::AttitudeFilter;
-    #[test]
-    fn dbg_slew() {
-        for (vib, comp) in [(0.0, false), (0.0, true), (0.5, false), (0.5, true)] {
-        let m = SlewingPlatform { vibration_m_s2: vib, vibration_rate_rad_s: vib.to_radians(), ..Default::default() };
-        for name in ["mpu6050", "nobias"] {
-            let mut model = crate::sim::ImuModel::preset(if name == "ideal" { "ideal" } else { "mpu6050" }).unwrap();
-            if name == "accbias0" || name == "both" { model.accel.bias *= 0.1; model.accel.scale *= 0.1; model.accel.cross_axis *= 0.1; }
-            if name == "gyrsc0" || name == "both" { model.gyro.scale *= 0.1; model.gyro.cross_axis *= 0.1; }
-            for t in [&mut model.gyro, &mut model.accel] {
-                if name == "nonoise" { t.noise_density = 0.0; t.bias_instability = 0.0; t.random_walk = 0.0; }
-                if name == "nobw" { t.bandwidth = crate::sim::imu::Bandwidth::Unlimited; }
-                if name == "nolsb" { t.lsb = 0.0; }
-                if name == "nobias" { t.bias *= 0.0; t.bias_temp_coeff *= 0.0; t.scale *= 0.0; t.cross_axis *= 0.0; }
-            }
-            let samples = model.simulate(&m, 200.0, 60.0, 1);
-            let mut f = clino_core::compensate::Compensated::new(Dynamic::default(), if comp { m.lever_arm_m } else { Vec3::zeros() });
-            let mut line = std::string::String::new();
-            for (k, s) in samples.iter().enumerate() {
-                f.update(s.gyr_rad_s, s.acc_m_s2, 0.005);
-                let tr = m.truth(s.t_s);
-                if k % 800 == 0 {
-                    line += &std::format!(" {:.2}{}[{:.3}]", inclination_error(&f.attitude(), &tr.attitude).to_degrees(), if f.inner().at_rest() { "r" } else { "" }, (f.gyro_bias() - model.gyro.bias).norm().to_degrees());
-                }
-            }
-            std::println!("vib {vib} comp {comp} {name}: {line} bias {:?}", f.gyro_bias().map(f64::to_degrees));
-        }
-        }
-    }
-}
