@@ -16,12 +16,21 @@ struct Cli {
 enum Command {
     /// Run the built-in demonstration (no files, no hardware).
     Demo(cmd::demo::Args),
+    /// Dynamic test bench: conical response, orbit cross-coupling, static test, lab analysis.
+    Testbench(cmd::testbench::Args),
+    /// Allan deviation and IEEE 952 noise terms of a static recording.
+    Allan(cmd::allan::Args),
+    /// Stewart-platform kinematics (inverse and forward) of single poses.
+    Stewart(cmd::stewart::Args),
 }
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Testbench(a) => cmd::testbench::run(a),
+        Command::Allan(a) => cmd::allan::run(a),
+        Command::Stewart(a) => cmd::stewart::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

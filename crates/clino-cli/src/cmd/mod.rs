@@ -1,2 +1,5 @@
 //! One module per subcommand.
+pub mod allan;
 pub mod demo;
+pub mod stewart;
+pub mod testbench;

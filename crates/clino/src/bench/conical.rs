@@ -53,7 +53,9 @@ impl Channels {
 
     /// The channels restricted to samples with `t_s` in [t0, t1).
     pub fn window(&self, t0: f64, t1: f64) -> Self {
-        let idx: Vec<usize> = (0..self.t_s.len()).filter(|&i| self.t_s[i] >= t0 && self.t_s[i] < t1).collect();
+        let idx: Vec<usize> = (0..self.t_s.len())
+            .filter(|&i| self.t_s[i] >= t0 && self.t_s[i] < t1)
+            .collect();
         let pick = |v: &Option<Vec<f64>>| v.as_ref().map(|v| idx.iter().map(|&i| v[i]).collect());
         Self {
             t_s: idx.iter().map(|&i| self.t_s[i]).collect(),
@@ -61,7 +63,10 @@ impl Channels {
             gyr_y: pick(&self.gyr_y),
             acc_x: pick(&self.acc_x),
             acc_y: pick(&self.acc_y),
-            attitude: self.attitude.as_ref().map(|v| idx.iter().map(|&i| v[i]).collect()),
+            attitude: self
+                .attitude
+                .as_ref()
+                .map(|v| idx.iter().map(|&i| v[i]).collect()),
         }
     }
 }
@@ -97,31 +102,67 @@ pub const TILT_TREND_ORDER: usize = 2;
 /// Sensitivities of `ch` under a cone of angle `alpha_rad` at `freq_hz`
 /// (three-parameter fits at the known frequency; offset removed from gyro and
 /// accelerometer, a quadratic trend from the tilt outputs).
-pub fn analyze_conical(ch: &Channels, alpha_rad: f64, freq_hz: f64, g_m_s2: f64) -> Result<ConicalPoint> {
+pub fn analyze_conical(
+    ch: &Channels,
+    alpha_rad: f64,
+    freq_hz: f64,
+    g_m_s2: f64,
+) -> Result<ConicalPoint> {
     if !(alpha_rad > 0.0 && alpha_rad < 1.5 && freq_hz > 0.0 && g_m_s2 > 0.0) {
         return Err(Error::new(
             ErrorKind::InvalidInput,
-            format!("conical analysis: cone angle {alpha_rad} rad, frequency {freq_hz} Hz, g {g_m_s2}"),
+            format!(
+                "conical analysis: cone angle {alpha_rad} rad, frequency {freq_hz} Hz, g {g_m_s2}"
+            ),
         ));
     }
     let t = &ch.t_s;
     let w = 2.0 * std::f64::consts::PI * freq_hz;
     let amp = |y: &Option<Vec<f64>>, p: usize| -> Result<Option<f64>> {
-        y.as_ref().map(|y| fit3(t, y, freq_hz, p).map(|f| f.amplitude)).transpose()
+        y.as_ref()
+            .map(|y| fit3(t, y, freq_hz, p).map(|f| f.amplitude))
+            .transpose()
     };
     let db = |s: Option<f64>| s.map(sens::db);
     let (mut tx, mut ty, mut sp, mut tt) = (None, None, None, None);
     if let Some(att) = &ch.attitude {
         if att.len() != t.len() {
-            return Err(Error::new(ErrorKind::InvalidInput, "attitude and time have different lengths"));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                "attitude and time have different lengths",
+            ));
         }
         let qt: Vec<QuatTilt> = att.iter().map(QuatTilt::from_attitude).collect();
         let z: Vec<ZxyTilt> = att.iter().map(ZxyTilt::from_attitude).collect();
         let p = TILT_TREND_ORDER;
-        tx = Some(sens::quat_tilt(fit3(t, &qt.iter().map(|q| q.x).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
-        ty = Some(sens::quat_tilt(fit3(t, &qt.iter().map(|q| q.y).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
-        sp = Some(sens::sin_phi(fit3(t, &z.iter().map(|z| z.sin_phi()).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
-        tt = Some(sens::tan_theta(fit3(t, &z.iter().map(|z| z.tan_theta()).collect::<Vec<_>>(), freq_hz, p)?.amplitude, alpha_rad));
+        tx = Some(sens::quat_tilt(
+            fit3(t, &qt.iter().map(|q| q.x).collect::<Vec<_>>(), freq_hz, p)?.amplitude,
+            alpha_rad,
+        ));
+        ty = Some(sens::quat_tilt(
+            fit3(t, &qt.iter().map(|q| q.y).collect::<Vec<_>>(), freq_hz, p)?.amplitude,
+            alpha_rad,
+        ));
+        sp = Some(sens::sin_phi(
+            fit3(
+                t,
+                &z.iter().map(|z| z.sin_phi()).collect::<Vec<_>>(),
+                freq_hz,
+                p,
+            )?
+            .amplitude,
+            alpha_rad,
+        ));
+        tt = Some(sens::tan_theta(
+            fit3(
+                t,
+                &z.iter().map(|z| z.tan_theta()).collect::<Vec<_>>(),
+                freq_hz,
+                p,
+            )?
+            .amplitude,
+            alpha_rad,
+        ));
     }
     Ok(ConicalPoint {
         freq_hz,
@@ -158,12 +199,29 @@ pub struct ConicalConfig {
     pub min_window_s: f64,
     /// Fewest periods in the analysis window.
     pub min_periods: f64,
+    /// Largest cone body rate ω·sin α allowed, rad/s: above the frequency where
+    /// α would exceed it the cone angle declines as asin(max/ω), as the paper
+    /// declines its angles at high frequency (its platform's limit; here the
+    /// gyro's range). `None`: α at every frequency.
+    pub max_rate_rad_s: Option<f64>,
 }
 
 impl ConicalConfig {
-    /// A sweep with the defaults: 200 Hz, seed 1, 2 s settling, window ≥ 10 s and ≥ 5 periods.
+    /// The cone angle used at `freq_hz`: α, or asin(max_rate/ω) when smaller.
+    pub fn alpha_at(&self, freq_hz: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * freq_hz;
+        match self.max_rate_rad_s {
+            Some(m) if m < w * self.alpha_rad.sin() => (m / w).min(1.0).asin(),
+            _ => self.alpha_rad,
+        }
+    }
+
+    /// A sweep with the defaults: 200 Hz, seed 1, 2 s settling, window ≥ 10 s
+    /// and ≥ 5 periods, cone rate at most 80 % of the gyro's range.
     pub fn new(alpha_rad: f64, freqs_hz: Vec<f64>, sensor: ImuModel, filter: &str) -> Self {
+        let range = sensor.gyro.range;
         Self {
+            max_rate_rad_s: range.is_finite().then_some(0.8 * range),
             alpha_rad,
             freqs_hz,
             rate_hz: 200.0,
@@ -188,12 +246,20 @@ pub(crate) fn check_sweep(freqs: &[f64], rate_hz: f64) -> Result<()> {
         return Err(Error::new(ErrorKind::InvalidInput, "no frequencies given"));
     }
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("sample rate {rate_hz} Hz")));
-    }
-    if let Some(f) = freqs.iter().find(|f| !(f.is_finite() && **f > 0.0 && **f < rate_hz / 4.0)) {
         return Err(Error::new(
             ErrorKind::InvalidInput,
-            format!("frequency {f} Hz must be positive and below a quarter of the sample rate ({rate_hz} Hz)"),
+            format!("sample rate {rate_hz} Hz"),
+        ));
+    }
+    if let Some(f) = freqs
+        .iter()
+        .find(|f| !(f.is_finite() && **f > 0.0 && **f < rate_hz / 4.0))
+    {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "frequency {f} Hz must be positive and below a quarter of the sample rate ({rate_hz} Hz)"
+            ),
         ));
     }
     Ok(())
@@ -201,18 +267,25 @@ pub(crate) fn check_sweep(freqs: &[f64], rate_hz: f64) -> Result<()> {
 
 /// Run the simulated conical test at every frequency of `cfg`; `progress(done, total)`
 /// is called after each frequency.
-pub fn run_conical(cfg: &ConicalConfig, progress: &mut dyn FnMut(usize, usize)) -> Result<Vec<ConicalPoint>> {
+pub fn run_conical(
+    cfg: &ConicalConfig,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<ConicalPoint>> {
     check_sweep(&cfg.freqs_hz, cfg.rate_hz)?;
     cfg.sensor.validate()?;
     let factory: FilterFactory = filter_factory(&cfg.filter, cfg.rate_hz)?;
     let mut out = Vec::with_capacity(cfg.freqs_hz.len());
     for (i, &f) in cfg.freqs_hz.iter().enumerate() {
-        let cone = Conical::about_z(cfg.alpha_rad, f);
+        let alpha = cfg.alpha_at(f);
+        let cone = Conical::about_z(alpha, f);
         let win = window_s(f, cfg.min_window_s, cfg.min_periods);
-        let samples = cfg.sensor.simulate(&cone, cfg.rate_hz, cfg.settle_s + win, cfg.seed + i as u64);
+        let samples =
+            cfg.sensor
+                .simulate(&cone, cfg.rate_hz, cfg.settle_s + win, cfg.seed + i as u64);
         let att = run_filter(&factory, &samples, cfg.rate_hz);
-        let ch = Channels::from_samples(&samples, Some(att)).window(cfg.settle_s, cfg.settle_s + win + 1e-9);
-        out.push(analyze_conical(&ch, cfg.alpha_rad, f, cfg.sensor.gravity_m_s2)?);
+        let ch = Channels::from_samples(&samples, Some(att))
+            .window(cfg.settle_s, cfg.settle_s + win + 1e-9);
+        out.push(analyze_conical(&ch, alpha, f, cfg.sensor.gravity_m_s2)?);
         progress(i + 1, cfg.freqs_hz.len());
     }
     Ok(out)
@@ -224,14 +297,26 @@ mod tests {
 
     fn all(p: &ConicalPoint) -> [f64; 8] {
         [
-            p.gyro_x_db, p.gyro_y_db, p.accel_x_db, p.accel_y_db, p.tilt_x_db, p.tilt_y_db, p.sin_phi_db, p.tan_theta_db,
+            p.gyro_x_db,
+            p.gyro_y_db,
+            p.accel_x_db,
+            p.accel_y_db,
+            p.tilt_x_db,
+            p.tilt_y_db,
+            p.sin_phi_db,
+            p.tan_theta_db,
         ]
         .map(Option::unwrap)
     }
 
     #[test]
     fn ideal_sensor_exact_integration_is_zero_db() {
-        let cfg = ConicalConfig::new(5f64.to_radians(), vec![0.1, 1.0, 3.15, 10.0], ImuModel::ideal(), "poisson");
+        let cfg = ConicalConfig::new(
+            5f64.to_radians(),
+            vec![0.1, 1.0, 3.15, 10.0],
+            ImuModel::ideal(),
+            "poisson",
+        );
         let pts = run_conical(&cfg, &mut |_, _| {}).unwrap();
         for p in &pts {
             for v in all(p) {
@@ -244,7 +329,12 @@ mod tests {
     fn first_order_2hz_sensor_is_minus_5_4_db_at_3_15_hz() {
         let expect = 20.0 * (1.0 / (1.0 + (3.15f64 / 2.0).powi(2)).sqrt()).log10();
         assert!((expect + 5.42).abs() < 0.01);
-        let cfg = ConicalConfig::new(5f64.to_radians(), vec![3.15], ImuModel::ideal().with_bandwidth(2.0), "poisson");
+        let cfg = ConicalConfig::new(
+            5f64.to_radians(),
+            vec![3.15],
+            ImuModel::ideal().with_bandwidth(2.0),
+            "poisson",
+        );
         let p = &run_conical(&cfg, &mut |_, _| {}).unwrap()[0];
         for v in [p.gyro_x_db, p.gyro_y_db, p.accel_x_db, p.accel_y_db].map(Option::unwrap) {
             assert!((v - expect).abs() < 0.2, "{v} vs {expect}");
@@ -252,6 +342,20 @@ mod tests {
         // the gyro-only tilt follows the band-limited gyro
         let t = p.tilt_x_db.unwrap();
         assert!(t < -3.0, "{t}");
+    }
+
+    #[test]
+    fn cone_angle_declines_within_the_gyro_range() {
+        let cfg = ConicalConfig::new(
+            5f64.to_radians(),
+            vec![1.0, 10.0],
+            ImuModel::mpu6050(),
+            "poisson",
+        );
+        assert_eq!(cfg.alpha_at(1.0), 5f64.to_radians());
+        let a10 = cfg.alpha_at(10.0);
+        let rate = 2.0 * std::f64::consts::PI * 10.0 * a10.sin();
+        assert!((rate - 0.8 * 250f64.to_radians()).abs() < 1e-12);
     }
 
     #[test]

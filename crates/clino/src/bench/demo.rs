@@ -40,15 +40,34 @@ pub fn demo_summary() -> Result<String> {
     let (cb, cs) = (cone(&best, BEST_FILTER)?, cone(&src, SOURCE_LIKE_FILTER)?);
     let (ob, os) = (orbit(&best, BEST_FILTER)?, orbit(&src, SOURCE_LIKE_FILTER)?);
     let mut s = String::new();
-    let _ = writeln!(s, "Dynamic test bench (simulated Stewart platform, {rate} Hz, mpu6050 preset)");
-    let _ = writeln!(s, "  clino: {BEST_FILTER}; source-like: sensor band-limited to {:.2} Hz + {SOURCE_LIKE_FILTER}", source_like_bandwidth_hz());
+    let _ = writeln!(
+        s,
+        "Dynamic test bench (simulated Stewart platform, {rate} Hz, mpu6050 preset)"
+    );
+    let _ = writeln!(
+        s,
+        "  clino: {BEST_FILTER}; source-like: sensor band-limited to {:.2} Hz + {SOURCE_LIKE_FILTER}",
+        source_like_bandwidth_hz()
+    );
     let _ = writeln!(s, "  tilt sensitivity, 5° cone about z (quaternion x, dB):");
     let _ = writeln!(s, "    freq_hz   clino_db   source_like_db");
     for (b, o) in cb.iter().zip(&cs) {
-        let _ = writeln!(s, "    {:7.2}   {:+8.3}   {:+8.3}", b.freq_hz, b.tilt_x_db.unwrap_or(f64::NAN), o.tilt_x_db.unwrap_or(f64::NAN));
+        let _ = writeln!(
+            s,
+            "    {:7.2}   {:+8.3}   {:+8.3}",
+            b.freq_hz,
+            b.tilt_x_db.unwrap_or(f64::NAN),
+            o.tilt_x_db.unwrap_or(f64::NAN)
+        );
     }
-    let _ = writeln!(s, "  cross-coupling, 20 mm orbits (roll; p-p and fitted p-p, degrees):");
-    let _ = writeln!(s, "    freq_hz   clino_pp  clino_fit   source_pp  source_fit");
+    let _ = writeln!(
+        s,
+        "  cross-coupling, 20 mm orbits (roll; p-p and fitted p-p, degrees):"
+    );
+    let _ = writeln!(
+        s,
+        "    freq_hz   clino_pp  clino_fit   source_pp  source_fit"
+    );
     for (b, o) in ob.iter().zip(&os) {
         let _ = writeln!(
             s,
@@ -64,7 +83,10 @@ mod tests {
     use super::*;
     #[test]
     fn source_like_bandwidth_is_3_6_db_down_at_3_15_hz() {
-        let g = crate::sim::Bandwidth::FirstOrder { cutoff_hz: source_like_bandwidth_hz() }.gain(3.15);
+        let g = crate::sim::Bandwidth::FirstOrder {
+            cutoff_hz: source_like_bandwidth_hz(),
+        }
+        .gain(3.15);
         assert!((20.0 * g.log10() + 3.6).abs() < 1e-9);
     }
 }

@@ -54,7 +54,8 @@ impl Truth {
     /// Specific force in the body frame for local gravity `g` (m/s², positive):
     /// f_b = Cᵀ·(a_n + g·e_z).
     pub fn specific_force(&self, g: f64) -> Vec3 {
-        self.attitude.inverse_transform_vector(&(self.acc_m_s2 + Vec3::new(0.0, 0.0, g)))
+        self.attitude
+            .inverse_transform_vector(&(self.acc_m_s2 + Vec3::new(0.0, 0.0, g)))
     }
 }
 
