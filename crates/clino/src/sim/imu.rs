@@ -28,11 +28,12 @@
 //! ```
 //! use clino::sim::{ImuModel, motion::Static};
 //! let model = ImuModel::preset("mpu6050").unwrap();
-//! let samples = model.simulate(&Static::level(), 100.0, 1.0, 42);
+//! let rest = Static::level();
+//! let samples = model.simulate(&rest, 100.0, 1.0, 42);
 //! assert_eq!(samples.len(), 100);
 //! assert!((samples[0].acc_m_s2.z - 9.80665).abs() < 0.5);
 //! // streaming form: one sample at a time
-//! let mut s = model.stream(&Static::level(), 100.0, 42);
+//! let mut s = model.stream(&rest, 100.0, 42);
 //! assert_eq!(s.next().unwrap(), samples[0]);
 //! ```
 
