@@ -425,7 +425,6 @@ mod tests {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig::with_cases(64))]
         #[test]
         fn ik_then_fk_round_trips(
             x in -0.05f64..0.05, y in -0.05f64..0.05, z in -0.05f64..0.05,
@@ -456,6 +455,7 @@ mod tests {
                 hist[fk.iterations.min(9)] += 1;
             }
         }
+        eprintln!("FK iterations from home over a 5×5 grid (±10°, ±50 mm): histogram {hist:?}");
         let max = hist.iter().rposition(|&c| c > 0).unwrap();
         assert!(max <= 7, "{hist:?}");
     }
