@@ -1,12 +1,12 @@
 //! `clino testbench conical|orbit|static|analyze`: the dynamic test bench.
 
 use anyhow::Context;
-use clino::bench::conical::{ConicalConfig, run_conical};
+use clino::bench::conical::{ConicalConfig, PlatformSpec, run_conical};
 use clino::bench::orbit::{OrbitConfig, run_orbit};
 use clino::bench::recording::{Excitation, Table, analyze};
 use clino::bench::{plots, static_test};
 use clino::sim::ImuModel;
-use clino::sim::stewart::Geometry;
+use clino::sim::stewart::{Geometry, ServoLegs};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -79,6 +79,16 @@ struct Common {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Carry the sensor on a simulated servo-driven Stewart platform (typical geometry);
+    /// the cone's reference angle then comes from the actual pose.
+    #[arg(long)]
+    platform: bool,
+    /// Natural frequency of the platform's servo legs, Hz (with --platform).
+    #[arg(long, default_value_t = 20.0)]
+    servo_hz: f64,
+    /// Damping ratio of the servo legs (with --platform).
+    #[arg(long, default_value_t = 0.7)]
+    servo_damping: f64,
     /// Print JSON to stdout.
     #[arg(long)]
     json: bool,
@@ -88,6 +98,16 @@ struct Common {
 }
 
 impl Common {
+    fn platform(&self) -> Option<PlatformSpec> {
+        self.platform.then(|| PlatformSpec {
+            geometry: Geometry::typical(),
+            servo: ServoLegs {
+                natural_hz: self.servo_hz,
+                damping: self.servo_damping,
+            },
+        })
+    }
+
     fn sensor(&self) -> anyhow::Result<ImuModel> {
         let m = ImuModel::preset(&self.sensor)?;
         Ok(match self.bandwidth_hz {
@@ -185,6 +205,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
             cfg.rate_hz = c.common.rate_hz;
             cfg.seed = c.common.seed;
+            cfg.platform = c.common.platform();
             let pb = progress(cfg.freqs_hz.len());
             let pts = run_conical(&cfg, &mut |d, _| pb.set_position(d as u64))?;
             pb.finish_and_clear();
@@ -223,6 +244,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
             cfg.rate_hz = o.common.rate_hz;
             cfg.seed = o.common.seed;
+            cfg.platform = o.common.platform();
             let pb = progress(cfg.freqs_hz.len());
             let pts = run_orbit(&cfg, &mut |d, _| pb.set_position(d as u64))?;
             pb.finish_and_clear();

@@ -97,6 +97,8 @@ pub struct OrbitConfig {
     pub min_window_s: f64,
     /// Fewest periods in the analysis window.
     pub min_periods: f64,
+    /// Run on a simulated servo platform (`None`: the sensor rides the exact orbit).
+    pub platform: Option<super::conical::PlatformSpec>,
 }
 
 impl OrbitConfig {
@@ -116,6 +118,7 @@ impl OrbitConfig {
             settle_s: 40.0,
             min_window_s: 20.0,
             min_periods: 4.0,
+            platform: None,
         }
     }
 }

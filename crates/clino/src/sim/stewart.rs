@@ -131,7 +131,8 @@ impl Geometry {
 
     /// A typical laboratory platform (our choice; the paper gives no
     /// dimensions): base radius 0.50 m, platform radius 0.35 m, joint pairs
-    /// ±10° about their centres, home height 0.60 m, leg stroke ±0.15 m.
+    /// ±10° about their centres, home height 0.60 m, leg stroke ±0.20 m (which
+    /// holds every pose within ±50 mm and ±10° on all six axes).
     pub fn typical() -> Self {
         Self::symmetric(
             0.50,
@@ -139,7 +140,7 @@ impl Geometry {
             10f64.to_radians(),
             10f64.to_radians(),
             0.60,
-            0.15,
+            0.20,
         )
     }
 
@@ -432,6 +433,7 @@ mod tests {
         ) {
             let g = Geometry::typical();
             let pose = Pose::from_deg([x, y, z], [r, p, yaw], g.home_height_m);
+            // the whole ±50 mm, ±10° box is inside the stroke of the typical geometry
             let legs = g.inverse(&pose).unwrap();
             let fk = g.forward(&legs, &g.home()).unwrap();
             let (dp, da) = pose_err(&fk.pose, &pose);
