@@ -356,6 +356,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 exc,
                 amp,
                 r.freq_hz,
+                &ServoLegs {
+                    natural_hz: r.common.servo_hz,
+                    damping: r.common.servo_damping,
+                },
                 &r.common.sensor()?,
                 &r.common.filter,
                 r.common.rate_hz,
