@@ -6,6 +6,7 @@ use clino::bench::orbit::{OrbitConfig, run_orbit};
 use clino::bench::recording::{Excitation, Table, analyze};
 use clino::bench::{plots, static_test};
 use clino::sim::ImuModel;
+use clino::sim::motion::ConeAxis;
 use clino::sim::stewart::{Geometry, ServoLegs};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -129,6 +130,9 @@ struct ConicalArgs {
         default_value = "0.1,0.2,0.5,1,2,3.15,5,10"
     )]
     freq_hz: Vec<f64>,
+    /// Cone axis: z (the full test) or x, y (gyro z sensitivity).
+    #[arg(long, default_value = "z")]
+    axis: String,
     #[command(flatten)]
     common: Common,
 }
@@ -206,6 +210,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             cfg.rate_hz = c.common.rate_hz;
             cfg.seed = c.common.seed;
             cfg.platform = c.common.platform();
+            cfg.axis = match c.axis.as_str() {
+                "x" => ConeAxis::X,
+                "y" => ConeAxis::Y,
+                "z" => ConeAxis::Z,
+                other => anyhow::bail!("unknown cone axis '{other}' (x, y or z)"),
+            };
             let pb = progress(cfg.freqs_hz.len());
             let pts = run_conical(&cfg, &mut |d, _| pb.set_position(d as u64))?;
             pb.finish_and_clear();
@@ -216,15 +226,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 println!("{}", serde_json::to_string_pretty(&pts)?);
             } else {
                 println!(
-                    "freq_hz  alpha_deg gyro_x_db gyro_y_db accel_x_db accel_y_db tilt_x_db tilt_y_db sin_phi_db tan_theta_db"
+                    "freq_hz  alpha_deg gyro_x_db gyro_y_db gyro_z_db accel_x_db accel_y_db tilt_x_db tilt_y_db sin_phi_db tan_theta_db"
                 );
                 for p in &pts {
                     println!(
-                        "{:7.3}  {:9.3} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>10} {:>12}",
+                        "{:7.3}  {:9.3} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>10} {:>12}",
                         p.freq_hz,
                         p.alpha_deg,
                         opt(p.gyro_x_db),
                         opt(p.gyro_y_db),
+                        opt(p.gyro_z_db),
                         opt(p.accel_x_db),
                         opt(p.accel_y_db),
                         opt(p.tilt_x_db),

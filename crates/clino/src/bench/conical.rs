@@ -15,7 +15,7 @@ use super::sensitivity as sens;
 use super::sinefit::fit3;
 use crate::Result;
 use crate::sim::ImuModel;
-use crate::sim::motion::Conical;
+use crate::sim::motion::{ConeAxis, Conical};
 use crate::sim::platform::PlatformMotion;
 use crate::sim::stewart::{Geometry, ServoLegs};
 use crate::{Error, ErrorKind};
@@ -32,6 +32,8 @@ pub struct Channels {
     pub gyr_x: Option<Vec<f64>>,
     /// Gyro y, rad/s.
     pub gyr_y: Option<Vec<f64>>,
+    /// Gyro z, rad/s.
+    pub gyr_z: Option<Vec<f64>>,
     /// Accelerometer x, m/s².
     pub acc_x: Option<Vec<f64>>,
     /// Accelerometer y, m/s².
@@ -47,6 +49,7 @@ impl Channels {
             t_s: samples.iter().map(|s| s.t_s).collect(),
             gyr_x: Some(samples.iter().map(|s| s.gyr_rad_s.x).collect()),
             gyr_y: Some(samples.iter().map(|s| s.gyr_rad_s.y).collect()),
+            gyr_z: Some(samples.iter().map(|s| s.gyr_rad_s.z).collect()),
             acc_x: Some(samples.iter().map(|s| s.acc_m_s2.x).collect()),
             acc_y: Some(samples.iter().map(|s| s.acc_m_s2.y).collect()),
             attitude,
@@ -63,6 +66,7 @@ impl Channels {
             t_s: idx.iter().map(|&i| self.t_s[i]).collect(),
             gyr_x: pick(&self.gyr_x),
             gyr_y: pick(&self.gyr_y),
+            gyr_z: pick(&self.gyr_z),
             acc_x: pick(&self.acc_x),
             acc_y: pick(&self.acc_y),
             attitude: self
@@ -106,6 +110,9 @@ pub struct ConicalPoint {
     pub gyro_x_db: Option<f64>,
     /// Gyro y sensitivity, dB (eq 6).
     pub gyro_y_db: Option<f64>,
+    /// Gyro z sensitivity, dB (eq 6 under a cone about x or y; the paper's
+    /// route to S_z, since the z rate of a cone about z is constant).
+    pub gyro_z_db: Option<f64>,
     /// Accelerometer x sensitivity, dB (eq 7).
     pub accel_x_db: Option<f64>,
     /// Accelerometer y sensitivity, dB (eq 7).
@@ -193,6 +200,7 @@ pub fn analyze_conical(
         alpha_deg: alpha_rad.to_degrees(),
         gyro_x_db: db(amp(&ch.gyr_x, 0)?.map(|y| sens::gyro(y, w, alpha_rad))),
         gyro_y_db: db(amp(&ch.gyr_y, 0)?.map(|y| sens::gyro(y, w, alpha_rad))),
+        gyro_z_db: None,
         accel_x_db: db(amp(&ch.acc_x, 0)?.map(|y| sens::accel(y, g_m_s2, alpha_rad))),
         accel_y_db: db(amp(&ch.acc_y, 0)?.map(|y| sens::accel(y, g_m_s2, alpha_rad))),
         tilt_x_db: db(tx),
@@ -202,9 +210,70 @@ pub fn analyze_conical(
     })
 }
 
+/// Gyro sensitivities under a cone about body x or y (eq 6 with the axes
+/// permuted): about x the y and z rates are harmonic of amplitude ω·sin α,
+/// about y the z and x rates. The accelerometer and tilt outputs are not the
+/// paper's harmonic signals under these cones and are not reported. For
+/// [`ConeAxis::Z`] this is [`analyze_conical`].
+pub fn analyze_cone(
+    ch: &Channels,
+    axis: ConeAxis,
+    alpha_rad: f64,
+    freq_hz: f64,
+    g_m_s2: f64,
+) -> Result<ConicalPoint> {
+    if axis == ConeAxis::Z {
+        return analyze_conical(ch, alpha_rad, freq_hz, g_m_s2);
+    }
+    if !(alpha_rad > 0.0 && alpha_rad < 1.5 && freq_hz > 0.0) {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("conical analysis: cone angle {alpha_rad} rad, frequency {freq_hz} Hz"),
+        ));
+    }
+    let w = 2.0 * std::f64::consts::PI * freq_hz;
+    let s = |y: &Option<Vec<f64>>| -> Result<Option<f64>> {
+        y.as_ref()
+            .map(|y| {
+                fit3(&ch.t_s, y, freq_hz, 0)
+                    .map(|f| sens::db(sens::gyro(f.amplitude, w, alpha_rad)))
+            })
+            .transpose()
+    };
+    let (gx, gy, gz) = match axis {
+        ConeAxis::X => (None, s(&ch.gyr_y)?, s(&ch.gyr_z)?),
+        _ => (s(&ch.gyr_x)?, None, s(&ch.gyr_z)?),
+    };
+    Ok(ConicalPoint {
+        freq_hz,
+        alpha_deg: alpha_rad.to_degrees(),
+        gyro_x_db: gx,
+        gyro_y_db: gy,
+        gyro_z_db: gz,
+        accel_x_db: None,
+        accel_y_db: None,
+        tilt_x_db: None,
+        tilt_y_db: None,
+        sin_phi_db: None,
+        tan_theta_db: None,
+    })
+}
+
+/// The two harmonic quaternion components of a cone about `axis`
+/// (about z: x, y; about x: y, z; about y: z, x), each of amplitude sin(α/2).
+fn cone_components(axis: ConeAxis, q: &Attitude) -> (f64, f64) {
+    match axis {
+        ConeAxis::Z => (q.i, q.j),
+        ConeAxis::X => (q.j, q.k),
+        ConeAxis::Y => (q.k, q.i),
+    }
+}
+
 /// A simulated conical-motion sweep.
 #[derive(Clone, Debug)]
 pub struct ConicalConfig {
+    /// Cone axis (z for the paper's full test; x or y for the gyro's z axis).
+    pub axis: ConeAxis,
     /// Cone angle α, rad.
     pub alpha_rad: f64,
     /// Frequencies, Hz.
@@ -247,6 +316,7 @@ impl ConicalConfig {
     pub fn new(alpha_rad: f64, freqs_hz: Vec<f64>, sensor: ImuModel, filter: &str) -> Self {
         let range = sensor.gyro.range;
         Self {
+            axis: ConeAxis::Z,
             max_rate_rad_s: range.is_finite().then_some(0.8 * range),
             alpha_rad,
             freqs_hz,
@@ -304,7 +374,7 @@ pub fn run_conical(
     let mut out = Vec::with_capacity(cfg.freqs_hz.len());
     for (i, &f) in cfg.freqs_hz.iter().enumerate() {
         let alpha = cfg.alpha_at(f);
-        let cone = Conical::about_z(alpha, f);
+        let cone = Conical::new(cfg.axis, alpha, f);
         let win = window_s(f, cfg.min_window_s, cfg.min_periods);
         let total = cfg.settle_s + win;
         let seed = cfg.seed + i as u64;
@@ -314,19 +384,25 @@ pub fn run_conical(
                 let pm = PlatformMotion::new(&p.geometry, &p.servo, &cone, total + 0.1)?;
                 let samples = cfg.sensor.simulate(&pm, cfg.rate_hz, total, seed);
                 // the reference: the actual cone angle from the actual poses
-                let (t, q): (Vec<f64>, Vec<QuatTilt>) = samples
+                let (t, q): (Vec<f64>, Vec<(f64, f64)>) = samples
                     .iter()
                     .filter(|s| s.t_s >= cfg.settle_s)
-                    .map(|s| (s.t_s, QuatTilt::from_attitude(&pm.pose(s.t_s).attitude)))
+                    .map(|s| (s.t_s, cone_components(cfg.axis, &pm.pose(s.t_s).attitude)))
                     .unzip();
-                let ax = fit3(&t, &q.iter().map(|q| q.x).collect::<Vec<_>>(), f, 1)?.amplitude;
-                let ay = fit3(&t, &q.iter().map(|q| q.y).collect::<Vec<_>>(), f, 1)?.amplitude;
+                let ax = fit3(&t, &q.iter().map(|q| q.0).collect::<Vec<_>>(), f, 1)?.amplitude;
+                let ay = fit3(&t, &q.iter().map(|q| q.1).collect::<Vec<_>>(), f, 1)?.amplitude;
                 (samples, 2.0 * (0.5 * (ax + ay)).min(1.0).asin())
             }
         };
         let att = run_filter(&factory, &samples, cfg.rate_hz);
         let ch = Channels::from_samples(&samples, Some(att)).window(cfg.settle_s, total + 1e-9);
-        out.push(analyze_conical(&ch, alpha_ref, f, cfg.sensor.gravity_m_s2)?);
+        out.push(analyze_cone(
+            &ch,
+            cfg.axis,
+            alpha_ref,
+            f,
+            cfg.sensor.gravity_m_s2,
+        )?);
         progress(i + 1, cfg.freqs_hz.len());
     }
     Ok(out)
@@ -412,6 +488,20 @@ mod tests {
         .map(Option::unwrap)
         {
             assert!(v.abs() < 0.05, "{p:?}");
+        }
+    }
+
+    #[test]
+    fn cones_about_x_and_y_give_the_gyro_z_sensitivity() {
+        let mut m = ImuModel::ideal().with_bandwidth(2.0);
+        m.gyro.scale = clino_core::Vec3::new(0.0, 0.0, 0.05);
+        let expect = 20.0 * (1.05 / (1.0 + (3.15f64 / 2.0).powi(2)).sqrt()).log10();
+        for axis in [ConeAxis::X, ConeAxis::Y] {
+            let mut cfg = ConicalConfig::new(5f64.to_radians(), vec![3.15], m.clone(), "poisson");
+            cfg.axis = axis;
+            let p = &run_conical(&cfg, &mut |_, _| {}).unwrap()[0];
+            assert!((p.gyro_z_db.unwrap() - expect).abs() < 0.2, "{p:?}");
+            assert!(p.accel_x_db.is_none() && p.tilt_x_db.is_none());
         }
     }
 

@@ -21,6 +21,7 @@ pub fn conical_plot(path: &Path, pts: &[ConicalPoint]) -> Result<()> {
     let series: Vec<Series> = vec![
         col("gyro x", &|p| p.gyro_x_db),
         col("gyro y", &|p| p.gyro_y_db),
+        col("gyro z", &|p| p.gyro_z_db),
         col("accel x", &|p| p.accel_x_db),
         col("accel y", &|p| p.accel_y_db),
         col("tilt x (quaternion)", &|p| p.tilt_x_db),

@@ -247,6 +247,7 @@ impl Table {
             t_s: self.t().to_vec(),
             gyr_x: self.either("gyr_x_rad_s", "gyr_x_deg_s", 1f64.to_radians()),
             gyr_y: self.either("gyr_y_rad_s", "gyr_y_deg_s", 1f64.to_radians()),
+            gyr_z: self.either("gyr_z_rad_s", "gyr_z_deg_s", 1f64.to_radians()),
             acc_x: self.either("acc_x_m_s2", "acc_x_g", G0),
             acc_y: self.either("acc_y_m_s2", "acc_y_g", G0),
             attitude: self.attitude(),
