@@ -470,53 +470,46 @@ impl<'m, M: Motion + ?Sized> ImuStream<'m, M> {
         let h = self.dt / n_sub as f64;
         let truth = self.motion.truth(t);
         let (gyr_in, acc_in) = (truth.gyr_rad_s, truth.specific_force(g));
-        // band-limit the physical input (sub-stepped, exact for piecewise-linear input)
-        let gyr_f = if self.gyro.lp.is_some() && n_sub > 1 {
-            let m = self.motion;
-            let fin = |tt: f64| m.truth(tt).gyr_rad_s;
-            lowpass(
-                &mut self.gyro,
-                &self.model.gyro.bandwidth,
-                gyr_in,
-                t,
-                h,
-                n_sub,
-                fin,
-            )
-        } else {
-            lowpass(
-                &mut self.gyro,
-                &self.model.gyro.bandwidth,
-                gyr_in,
-                t,
-                h,
-                1,
-                |_| gyr_in,
-            )
+        // band-limit the physical input (sub-stepped, exact for piecewise-linear
+        // input); the truth at the sub-steps is evaluated once for both triads
+        let limited = |st: &TriadState, e: &TriadErrors| {
+            st.lp.is_some() && matches!(e.bandwidth, Bandwidth::FirstOrder { .. })
         };
-        let acc_f = if self.accel.lp.is_some() && n_sub > 1 {
-            let m = self.motion;
-            let fin = |tt: f64| m.truth(tt).specific_force(g);
-            lowpass(
-                &mut self.accel,
-                &self.model.accel.bandwidth,
-                acc_in,
-                t,
-                h,
-                n_sub,
-                fin,
-            )
+        let (lg, la) = (
+            limited(&self.gyro, &self.model.gyro),
+            limited(&self.accel, &self.model.accel),
+        );
+        let mids: Vec<Truth> = if n_sub > 1 && (lg || la) {
+            (1..n_sub)
+                .map(|j| self.motion.truth(t - self.dt + h * j as f64))
+                .collect()
         } else {
-            lowpass(
-                &mut self.accel,
-                &self.model.accel.bandwidth,
-                acc_in,
-                t,
-                h,
-                1,
-                |_| acc_in,
-            )
+            Vec::new()
         };
+        let gm: Vec<Vec3> = if lg {
+            mids.iter().map(|m| m.gyr_rad_s).collect()
+        } else {
+            Vec::new()
+        };
+        let am: Vec<Vec3> = if la {
+            mids.iter().map(|m| m.specific_force(g)).collect()
+        } else {
+            Vec::new()
+        };
+        let gyr_f = lowpass(
+            &mut self.gyro,
+            &self.model.gyro.bandwidth,
+            gyr_in,
+            &gm,
+            self.dt,
+        );
+        let acc_f = lowpass(
+            &mut self.accel,
+            &self.model.accel.bandwidth,
+            acc_in,
+            &am,
+            self.dt,
+        );
         let dt = self.dt;
         let gyr = apply(
             &self.model.gyro,
@@ -567,15 +560,7 @@ fn normal3(rng: &mut ChaCha8Rng) -> Vec3 {
 /// First-order low-pass y' = (u − y)·ω_c, stepped exactly for u linear over
 /// each sub-step of length h: y₁ = a·y₀ + (1 − a)·u₀ + (u₁ − u₀)·(1 − (1 − a)/(ω_c·h)),
 /// a = exp(−ω_c·h). The state starts at the first input (steady state at DC).
-fn lowpass(
-    st: &mut TriadState,
-    bw: &Bandwidth,
-    u_now: Vec3,
-    t: f64,
-    h: f64,
-    n_sub: usize,
-    input: impl Fn(f64) -> Vec3,
-) -> Vec3 {
+fn lowpass(st: &mut TriadState, bw: &Bandwidth, u_now: Vec3, mids: &[Vec3], dt: f64) -> Vec3 {
     let Bandwidth::FirstOrder { cutoff_hz } = *bw else {
         return u_now;
     };
@@ -584,17 +569,12 @@ fn lowpass(
         st.prev_in = u_now;
         return u_now;
     };
+    let h = dt / (mids.len() + 1) as f64;
     let wc = 2.0 * std::f64::consts::PI * cutoff_hz;
     let a = (-wc * h).exp();
     let c1 = 1.0 - (1.0 - a) / (wc * h);
     let mut u0 = st.prev_in;
-    let t0 = t - h * n_sub as f64;
-    for j in 1..=n_sub {
-        let u1 = if j == n_sub {
-            u_now
-        } else {
-            input(t0 + h * j as f64)
-        };
+    for &u1 in mids.iter().chain(std::iter::once(&u_now)) {
         y = y * a + u0 * (1.0 - a) + (u1 - u0) * c1;
         u0 = u1;
     }
