@@ -19,8 +19,8 @@
 //! K (the +½ slope, read at τ = 3 s). They are estimated by a weighted,
 //! non-negative least-squares fit of that sum to σ² on the log-spaced τ grid.
 //! The confidence of each term is propagated from the bound on σ² at the τ
-//! where that term's share of the fitted σ² is largest (a conservative bound:
-//! the fit uses every τ), plus the whole share of the other terms there (their
+//! where that gives the tightest interval — where the term dominates and σ²
+//! is best determined (a conservative bound: the fit uses every τ) — plus the whole share of the other terms there (their
 //! shapes are idealised: band-limited flicker is not flat at its band edge),
 //! widened by the Birge ratio √(χ²/(n − p)) of the
 //! fit when the three-term model does not explain the curve within its
@@ -55,7 +55,7 @@ pub struct Term {
     pub lo: f64,
     /// Upper bound.
     pub hi: f64,
-    /// τ at which the term dominates most (where its bound is taken), s.
+    /// τ at which the bound is taken (where it is tightest), s.
     pub tau_s: f64,
 }
 
@@ -247,24 +247,25 @@ pub fn noise_terms(pts: &[AllanPoint]) -> Result<NoiseTerms> {
         if c[j] <= 0.0 {
             return None;
         }
-        // where does the term dominate most?
-        let (i, _) = pts
+        // the bound at each τ; keep the tightest (where the term dominates and
+        // the Allan variance is best determined)
+        let (lo2, hi2, tau) = pts
             .iter()
-            .enumerate()
-            .map(|(i, p)| (i, basis(p.tau_s)[j] * c[j] / model(p.tau_s)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        let p = pts[i];
-        let tot = model(p.tau_s);
-        let (lo_f, hi_f) = ((p.adev_lo / p.adev).powi(2), (p.adev_hi / p.adev).powi(2));
-        let bj = basis(p.tau_s)[j];
-        let others = tot - bj * c[j];
-        let lo2 = (c[j] - (inflate * tot * (1.0 - lo_f) + others) / bj).max(0.0);
-        let hi2 = c[j] + (inflate * tot * (hi_f - 1.0) + others) / bj;
+            .map(|p| {
+                let tot = model(p.tau_s);
+                let (lo_f, hi_f) = ((p.adev_lo / p.adev).powi(2), (p.adev_hi / p.adev).powi(2));
+                let bj = basis(p.tau_s)[j];
+                let others = tot - bj * c[j];
+                let lo2 = (c[j] - (inflate * tot * (1.0 - lo_f) + others) / bj).max(0.0);
+                let hi2 = c[j] + (inflate * tot * (hi_f - 1.0) + others) / bj;
+                (lo2, hi2, p.tau_s)
+            })
+            .min_by(|a, b| (a.1 - a.0).total_cmp(&(b.1 - b.0)))?;
         Some(Term {
             value: c[j].sqrt(),
             lo: lo2.sqrt(),
             hi: hi2.sqrt(),
-            tau_s: p.tau_s,
+            tau_s: tau,
         })
     };
     Ok(NoiseTerms {
