@@ -18,6 +18,12 @@ enum Command {
     Demo(cmd::demo::Args),
     /// Nine-chain six-axis accelerometer with a gyro: restorable sets, fault simulation, diagnosis.
     Redundancy(cmd::redundancy::Args),
+    /// Dynamic test bench: conical response, orbit cross-coupling, static test, lab analysis.
+    Testbench(cmd::testbench::Args),
+    /// Allan deviation and IEEE 952 noise terms of a static recording.
+    Allan(cmd::allan::Args),
+    /// Stewart-platform kinematics (inverse and forward) of single poses.
+    Stewart(cmd::stewart::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -25,6 +31,9 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Demo(a) => cmd::demo::run(a),
         Command::Redundancy(a) => cmd::redundancy::run(a),
+        Command::Testbench(a) => cmd::testbench::run(a),
+        Command::Allan(a) => cmd::allan::run(a),
+        Command::Stewart(a) => cmd::stewart::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -1,3 +1,6 @@
 //! One module per subcommand.
+pub mod allan;
 pub mod demo;
 pub mod redundancy;
+pub mod stewart;
+pub mod testbench;
