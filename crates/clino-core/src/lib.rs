@@ -51,6 +51,7 @@ extern crate std;
 pub mod filter;
 pub(crate) mod math;
 pub mod sample;
+pub mod sensor;
 pub mod tilt;
 
 pub use filter::{AttitudeFilter, Step};
