@@ -15,6 +15,7 @@
 
 pub use clino_core as core;
 
+pub mod calib;
 pub mod error;
 pub mod report;
 pub mod sim;
