@@ -19,5 +19,6 @@ pub mod calib;
 pub mod error;
 pub mod report;
 pub mod sim;
+pub mod survey;
 
 pub use error::{Error, ErrorKind, Result};
