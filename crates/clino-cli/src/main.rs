@@ -16,12 +16,18 @@ struct Cli {
 enum Command {
     /// Run the built-in demonstration (no files, no hardware).
     Demo(cmd::demo::Args),
+    /// Calibrate accelerometer, gyro or magnetometer triads from recordings, or apply a calibration.
+    Calibrate(cmd::calibrate::Args),
+    /// Drilling survey: inclination, azimuth, toolface, roll-test QC, minimum-curvature trajectory.
+    Survey(cmd::survey::Args),
 }
 
 fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(a) => cmd::demo::run(a),
+        Command::Calibrate(a) => cmd::calibrate::run(a),
+        Command::Survey(a) => cmd::survey::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

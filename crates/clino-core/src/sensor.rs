@@ -297,7 +297,11 @@ mod tests {
                 [-0.03, 0.0, -2e-5, 0.0],
                 [0.02, -5e-4, 0.0, 2e-7],
             ],
-            m: [[0.0, 0.002, -0.001], [0.003, 0.0, 0.0015], [-0.002, 0.001, 0.0]],
+            m: [
+                [0.0, 0.002, -0.001],
+                [0.003, 0.0, 0.0015],
+                [-0.002, 0.001, 0.0],
+            ],
         }
     }
 
@@ -312,7 +316,10 @@ mod tests {
                 + md.scale[i][1] * dt
                 + md.scale[i][2] * dt * dt
                 + md.scale[i][3] * dt * dt * dt;
-            let b = md.bias[i][0] + md.bias[i][1] * dt + md.bias[i][2] * dt * dt + md.bias[i][3] * dt * dt * dt;
+            let b = md.bias[i][0]
+                + md.bias[i][1] * dt
+                + md.bias[i][2] * dt * dt
+                + md.bias[i][3] * dt * dt * dt;
             v[i] / sf - b
         });
         let ga = c[0] - md.m[0][1] * c[1] - md.m[0][2] * c[2];
@@ -353,12 +360,22 @@ mod tests {
 
     #[test]
     fn calibration_applies_each_triad_and_keeps_the_rest() {
-        let acc = TriadCalibration { model: TriadModel::Mwd(model()), valid_temp_c: [25.0, 80.0] };
+        let acc = TriadCalibration {
+            model: TriadModel::Mwd(model()),
+            valid_temp_c: [25.0, 80.0],
+        };
         let mag = TriadCalibration {
-            model: TriadModel::Matrix(MatrixModel { bias: [1.0, 2.0, 3.0], ..MatrixModel::IDENTITY }),
+            model: TriadModel::Matrix(MatrixModel {
+                bias: [1.0, 2.0, 3.0],
+                ..MatrixModel::IDENTITY
+            }),
             valid_temp_c: [-40.0, 85.0],
         };
-        let cal = Calibration { accel: Some(acc), gyro: None, mag: Some(mag) };
+        let cal = Calibration {
+            accel: Some(acc),
+            gyro: None,
+            mag: Some(mag),
+        };
         let mut s = ImuSample::new(1.5, Vec3::new(0.1, 0.2, 0.3), Vec3::new(3.0, -4.0, 8.5));
         s.temp_c = Some(40.0);
         s.mag_ut = Some(Vec3::new(21.0, 2.0, 43.0));

@@ -1,2 +1,4 @@
 //! One module per subcommand.
+pub mod calibrate;
 pub mod demo;
+pub mod survey;

@@ -26,10 +26,10 @@
 //! clino-core's `serde` feature), so the device and the desktop read the same
 //! numbers.
 
-use super::recording::{Recording, ACC_COLS, GYR_COLS, MAG_COLS};
+use super::recording::{ACC_COLS, GYR_COLS, MAG_COLS, Recording};
 use crate::{Error, ErrorKind, Result};
-use clino_core::sensor::{Calibration, TriadCalibration, TriadKind, TriadModel};
 use clino_core::ImuSample;
+use clino_core::sensor::{Calibration, TriadCalibration, TriadKind, TriadModel};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -62,7 +62,10 @@ pub struct TriadEntry {
 impl TriadEntry {
     /// The core calibration of this entry.
     pub fn calibration(&self) -> TriadCalibration {
-        TriadCalibration { model: self.model, valid_temp_c: self.valid_temp_c }
+        TriadCalibration {
+            model: self.model,
+            valid_temp_c: self.valid_temp_c,
+        }
     }
 }
 
@@ -89,16 +92,32 @@ pub struct CalibrationFile {
 
 impl Default for CalibrationFile {
     fn default() -> Self {
-        Self { format: FORMAT.into(), version: 1, accel: None, gyro: None, mag: None, extrapolate: false }
+        Self {
+            format: FORMAT.into(),
+            version: 1,
+            accel: None,
+            gyro: None,
+            mag: None,
+            extrapolate: false,
+        }
     }
 }
 
 fn finite_model(m: &TriadModel) -> bool {
     match m {
-        TriadModel::Matrix(x) => x.bias.iter().chain(x.matrix.iter().flatten()).all(|v| v.is_finite()),
+        TriadModel::Matrix(x) => x
+            .bias
+            .iter()
+            .chain(x.matrix.iter().flatten())
+            .all(|v| v.is_finite()),
         TriadModel::Mwd(x) => {
             x.tc_c.is_finite()
-                && x.scale.iter().flatten().chain(x.bias.iter().flatten()).chain(x.m.iter().flatten()).all(|v| v.is_finite())
+                && x.scale
+                    .iter()
+                    .flatten()
+                    .chain(x.bias.iter().flatten())
+                    .chain(x.m.iter().flatten())
+                    .all(|v| v.is_finite())
                 && x.scale.iter().all(|s| s[0] != 0.0)
         }
     }
@@ -126,31 +145,51 @@ impl CalibrationFile {
     /// Parse and check a calibration file's text.
     pub fn from_toml(text: &str) -> Result<Self> {
         let f: CalibrationFile = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() as u64 + 1);
-            let err = Error::new(ErrorKind::Parse, format!("not a calibration file: {}", e.message()));
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() as u64 + 1);
+            let err = Error::new(
+                ErrorKind::Parse,
+                format!("not a calibration file: {}", e.message()),
+            );
             match line {
                 Some(l) => err.at_line(l),
                 None => err,
             }
         })?;
         if f.format != FORMAT {
-            return Err(Error::new(ErrorKind::Parse, format!("format is '{}', expected '{FORMAT}'", f.format)));
+            return Err(Error::new(
+                ErrorKind::Parse,
+                format!("format is '{}', expected '{FORMAT}'", f.format),
+            ));
         }
         if f.version != 1 {
-            return Err(Error::new(ErrorKind::Parse, format!("unsupported calibration file version {}", f.version)));
+            return Err(Error::new(
+                ErrorKind::Parse,
+                format!("unsupported calibration file version {}", f.version),
+            ));
         }
         for kind in [TriadKind::Accel, TriadKind::Gyro, TriadKind::Mag] {
             if let Some(e) = f.get(kind) {
                 let name = format!("{kind:?}").to_lowercase();
                 if e.unit != kind.unit() {
-                    return Err(Error::new(ErrorKind::InvalidInput, format!("[{name}] unit is '{}', expected '{}'", e.unit, kind.unit())));
+                    return Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!("[{name}] unit is '{}', expected '{}'", e.unit, kind.unit()),
+                    ));
                 }
                 let [a, b] = e.valid_temp_c;
                 if !(a.is_finite() && b.is_finite() && a <= b) {
-                    return Err(Error::new(ErrorKind::InvalidInput, format!("[{name}] valid_temp_c must be [min, max] with min ≤ max")));
+                    return Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!("[{name}] valid_temp_c must be [min, max] with min ≤ max"),
+                    ));
                 }
                 if !finite_model(&e.model) {
-                    return Err(Error::new(ErrorKind::InvalidInput, format!("[{name}] model holds a non-finite number or a zero scale factor")));
+                    return Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!("[{name}] model holds a non-finite number or a zero scale factor"),
+                    ));
                 }
             }
         }
@@ -160,19 +199,22 @@ impl CalibrationFile {
     /// Load a calibration file.
     pub fn load(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::new(ErrorKind::Io, format!("cannot read: {e}")).in_file(path))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot read: {e}")).in_file(path))?;
         Self::from_toml(&text).map_err(|e| e.in_file(path))
     }
 
     /// The file's text.
     pub fn to_toml(&self) -> Result<String> {
-        toml::to_string_pretty(self).map_err(|e| Error::new(ErrorKind::InvalidInput, format!("cannot serialise: {e}")))
+        toml::to_string_pretty(self)
+            .map_err(|e| Error::new(ErrorKind::InvalidInput, format!("cannot serialise: {e}")))
     }
 
     /// Write the file.
     pub fn save(&self, path: impl AsRef<Path>) -> Result<()> {
         let path = path.as_ref();
-        std::fs::write(path, self.to_toml()?).map_err(|e| Error::new(ErrorKind::Io, format!("cannot write: {e}")).in_file(path))
+        std::fs::write(path, self.to_toml()?)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot write: {e}")).in_file(path))
     }
 
     /// The core calibration (what a device applies).
@@ -185,12 +227,20 @@ impl CalibrationFile {
     }
 
     fn check_temp(&self, temp_c: Option<f64>) -> Result<()> {
-        for (kind, e) in [(TriadKind::Accel, &self.accel), (TriadKind::Gyro, &self.gyro), (TriadKind::Mag, &self.mag)] {
+        for (kind, e) in [
+            (TriadKind::Accel, &self.accel),
+            (TriadKind::Gyro, &self.gyro),
+            (TriadKind::Mag, &self.mag),
+        ] {
             let Some(e) = e else { continue };
             let c = e.calibration();
             match temp_c {
                 None if c.model.is_temperature_dependent() => {
-                    return Err(Error::new(ErrorKind::MissingColumn, format!("the {kind:?} model depends on temperature; the sample has none")).at_column("temp_c"));
+                    return Err(Error::new(
+                        ErrorKind::MissingColumn,
+                        format!("the {kind:?} model depends on temperature; the sample has none"),
+                    )
+                    .at_column("temp_c"));
                 }
                 Some(t) if !self.extrapolate && !c.is_valid_at(Some(t)) => {
                     return Err(Error::new(
@@ -219,7 +269,10 @@ impl CalibrationFile {
     {
         let cal = self.calibration();
         samples.into_iter().enumerate().map(move |(i, s)| {
-            self.check_temp(s.temp_c).map_err(|e| Error { message: format!("sample {i}: {}", e.message), ..e })?;
+            self.check_temp(s.temp_c).map_err(|e| Error {
+                message: format!("sample {i}: {}", e.message),
+                ..e
+            })?;
             Ok(cal.apply(&s))
         })
     }
@@ -229,16 +282,35 @@ impl CalibrationFile {
     /// lacks is an error; a triad in the recording the file does not calibrate
     /// is left as is.
     pub fn apply_recording(&self, rec: &mut Recording) -> Result<()> {
-        let need = [(TriadKind::Accel, rec.acc.is_some(), ACC_COLS[0]), (TriadKind::Gyro, rec.gyr.is_some(), GYR_COLS[0]), (TriadKind::Mag, rec.mag.is_some(), MAG_COLS[0])];
-        if need.iter().all(|(k, has, _)| !(*has && self.get(*k).is_some())) {
-            let (_, _, col) = need.iter().find(|(k, _, _)| self.get(*k).is_some()).copied().unwrap_or(need[0]);
-            return Err(rec.error(ErrorKind::MissingColumn, "the recording has none of the triads this calibration file calibrates").at_column(col));
+        let need = [
+            (TriadKind::Accel, rec.acc.is_some(), ACC_COLS[0]),
+            (TriadKind::Gyro, rec.gyr.is_some(), GYR_COLS[0]),
+            (TriadKind::Mag, rec.mag.is_some(), MAG_COLS[0]),
+        ];
+        if need
+            .iter()
+            .all(|(k, has, _)| !(*has && self.get(*k).is_some()))
+        {
+            let (_, _, col) = need
+                .iter()
+                .find(|(k, _, _)| self.get(*k).is_some())
+                .copied()
+                .unwrap_or(need[0]);
+            return Err(rec
+                .error(
+                    ErrorKind::MissingColumn,
+                    "the recording has none of the triads this calibration file calibrates",
+                )
+                .at_column(col));
         }
         let cal = self.calibration();
         for i in 0..rec.len() {
             let t = rec.temp_c.as_ref().map(|v| v[i]);
             self.check_temp(t).map_err(|e| {
-                let e = Error { file: rec.path.clone(), ..e };
+                let e = Error {
+                    file: rec.path.clone(),
+                    ..e
+                };
                 e.at_line(rec.line[i])
             })?;
             let s = cal.apply(&rec.sample(i));
@@ -259,8 +331,8 @@ impl CalibrationFile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clino_core::sensor::{MatrixModel, MwdModel};
     use clino_core::Vec3;
+    use clino_core::sensor::{MatrixModel, MwdModel};
 
     fn file() -> CalibrationFile {
         let mut md = MwdModel::identity(30.0);
@@ -288,7 +360,10 @@ mod tests {
                 valid_temp_c: [-40.0, 85.0],
                 method: String::new(),
                 convention: String::new(),
-                model: TriadModel::Matrix(MatrixModel { bias: [1.0, 2.0, 3.0], ..MatrixModel::IDENTITY }),
+                model: TriadModel::Matrix(MatrixModel {
+                    bias: [1.0, 2.0, 3.0],
+                    ..MatrixModel::IDENTITY
+                }),
                 sigma: BTreeMap::new(),
             },
         );
@@ -307,11 +382,16 @@ mod tests {
     #[test]
     fn bad_files_are_clear_errors() {
         let text = file().to_toml().unwrap();
-        let e = CalibrationFile::from_toml(&text.replace("unit = \"m/s^2\"", "unit = \"g\"")).unwrap_err();
+        let e = CalibrationFile::from_toml(&text.replace("unit = \"m/s^2\"", "unit = \"g\""))
+            .unwrap_err();
         assert!(e.message.contains("expected 'm/s^2'"), "{}", e.message);
-        let e = CalibrationFile::from_toml(&text.replace("clino-calibration", "other")).unwrap_err();
+        let e =
+            CalibrationFile::from_toml(&text.replace("clino-calibration", "other")).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Parse);
-        let e = CalibrationFile::from_toml("format = \"clino-calibration\"\nversion = 1\n[accel]\nunit = 3\n").unwrap_err();
+        let e = CalibrationFile::from_toml(
+            "format = \"clino-calibration\"\nversion = 1\n[accel]\nunit = 3\n",
+        )
+        .unwrap_err();
         assert_eq!(e.line, Some(4), "{e}");
     }
 
@@ -323,13 +403,31 @@ mod tests {
         assert_eq!(f.apply(&s).unwrap_err().column.as_deref(), Some("temp_c"));
         s.temp_c = Some(90.0);
         assert!(f.apply(&s).unwrap_err().message.contains("outside"));
-        let f2 = CalibrationFile { extrapolate: true, ..f.clone() };
+        let f2 = CalibrationFile {
+            extrapolate: true,
+            ..f.clone()
+        };
         assert!(f2.apply(&s).is_ok());
         s.temp_c = Some(50.0);
         let out = f.apply(&s).unwrap();
         assert_eq!(out.mag_ut, Some(Vec3::new(10.0, 10.0, 10.0)));
-        assert_eq!(out.acc_m_s2, f.calibration().accel.unwrap().model.apply(s.acc_m_s2, Some(50.0)));
-        let v: Vec<_> = f.apply_iter(vec![s, ImuSample { temp_c: Some(10.0), ..s }]).collect();
+        assert_eq!(
+            out.acc_m_s2,
+            f.calibration()
+                .accel
+                .unwrap()
+                .model
+                .apply(s.acc_m_s2, Some(50.0))
+        );
+        let v: Vec<_> = f
+            .apply_iter(vec![
+                s,
+                ImuSample {
+                    temp_c: Some(10.0),
+                    ..s
+                },
+            ])
+            .collect();
         assert!(v[0].is_ok());
         assert!(v[1].as_ref().unwrap_err().message.starts_with("sample 1"));
     }

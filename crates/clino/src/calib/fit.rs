@@ -41,8 +41,8 @@
 
 use super::statics::Pose;
 use crate::{Error, ErrorKind, Result};
-use clino_core::sensor::{MatrixModel, MwdModel, TriadCalibration, TriadKind, TriadModel};
 use clino_core::Vec3;
+use clino_core::sensor::{MatrixModel, MwdModel, TriadCalibration, TriadKind, TriadModel};
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::{DMatrix, DVector, Dyn, Matrix3, Owned};
 use serde::Serialize;
@@ -74,7 +74,10 @@ impl ModelKind {
             "matrix" => Ok(ModelKind::Matrix),
             "mwd12" => Ok(ModelKind::Mwd12),
             "mwd30" => Ok(ModelKind::Mwd30),
-            _ => Err(Error::new(ErrorKind::InvalidInput, format!("unknown model '{s}' (matrix, mwd12, mwd30)"))),
+            _ => Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("unknown model '{s}' (matrix, mwd12, mwd30)"),
+            )),
         }
     }
 }
@@ -97,10 +100,18 @@ impl Gauge {
     /// The convention in words, as written in calibration files and reports.
     pub fn statement(self) -> &'static str {
         match self {
-            Gauge::LowerTriangular => "magnitudes cannot see the triad's rotation against the housing: by convention x is the sensor's x sensing axis and y lies in the plane of its x and y sensing axes (misalignment lower triangular: m_xy = m_xz = m_yz = 0)",
-            Gauge::ZFromReference => "the reference inclination fixes the z axis to the housing's; the rotation about z is not observable: by convention the housing's x axis lies in the plane of the sensor's x and z sensing axes (m_xy = 0)",
-            Gauge::Symmetric => "a field magnitude cannot see the triad's rotation: by convention the soft-iron matrix is symmetric (the smallest rotation); align to another triad separately",
-            Gauge::Full => "reference vectors are known: all parameters observable, no convention needed",
+            Gauge::LowerTriangular => {
+                "magnitudes cannot see the triad's rotation against the housing: by convention x is the sensor's x sensing axis and y lies in the plane of its x and y sensing axes (misalignment lower triangular: m_xy = m_xz = m_yz = 0)"
+            }
+            Gauge::ZFromReference => {
+                "the reference inclination fixes the z axis to the housing's; the rotation about z is not observable: by convention the housing's x axis lies in the plane of the sensor's x and z sensing axes (m_xy = 0)"
+            }
+            Gauge::Symmetric => {
+                "a field magnitude cannot see the triad's rotation: by convention the soft-iron matrix is symmetric (the smallest rotation); align to another triad separately"
+            }
+            Gauge::Full => {
+                "reference vectors are known: all parameters observable, no convention needed"
+            }
         }
     }
 }
@@ -121,7 +132,12 @@ pub struct Observation {
 impl Observation {
     /// An observation with only a raw reading and temperature.
     pub fn new(raw: Vec3, temp_c: Option<f64>) -> Self {
-        Self { raw, temp_c, ref_inclination: None, ref_vector: None }
+        Self {
+            raw,
+            temp_c,
+            ref_inclination: None,
+            ref_vector: None,
+        }
     }
 }
 
@@ -256,7 +272,10 @@ impl TriadFit {
         if let (Some(a), Some(b)) = (self.rms_norm_before, self.rms_norm_after) {
             s += &format!("rms |{u}| error: before {a:.4e}, after {b:.4e} {u}\n");
         }
-        if let (Some(a), Some(b)) = (self.rms_inclination_before_deg, self.rms_inclination_after_deg) {
+        if let (Some(a), Some(b)) = (
+            self.rms_inclination_before_deg,
+            self.rms_inclination_after_deg,
+        ) {
             s += &format!("rms inclination error: before {a:.4}°, after {b:.5}°\n");
         }
         if let (Some(a), Some(b)) = (self.rms_vector_before, self.rms_vector_after) {
@@ -264,7 +283,10 @@ impl TriadFit {
         }
         s += "parameter        value          1σ            unit\n";
         for p in &self.params {
-            s += &format!("{:10} {:>14.6e} {:>12.3e}   {}\n", p.name, p.value, p.sigma, p.unit);
+            s += &format!(
+                "{:10} {:>14.6e} {:>12.3e}   {}\n",
+                p.name, p.value, p.sigma, p.unit
+            );
         }
         if !self.fixed.is_empty() {
             s += &format!("fixed by convention: {}\n", self.fixed.join(", "));
@@ -365,7 +387,12 @@ impl State {
     }
 
     /// Calibrated reading y and its derivatives dy/dp (3 × params).
-    pub(crate) fn eval(&self, params: &[P], o: &Observation, jac: Option<&mut DMatrix<f64>>) -> Vec3 {
+    pub(crate) fn eval(
+        &self,
+        params: &[P],
+        o: &Observation,
+        jac: Option<&mut DMatrix<f64>>,
+    ) -> Vec3 {
         match self {
             State::Matrix { m, b } => {
                 let d = o.raw - b;
@@ -458,7 +485,11 @@ pub(crate) fn parameter_set(model: ModelKind, gauge: Gauge) -> (Vec<P>, Vec<P>) 
             for i in 0..3 {
                 for j in 0..3 {
                     if i == j || !is_fixed(i, j) {
-                        free.push(if gauge == Gauge::Symmetric { P::Sym(i, j) } else { P::Mat(i, j) });
+                        free.push(if gauge == Gauge::Symmetric {
+                            P::Sym(i, j)
+                        } else {
+                            P::Mat(i, j)
+                        });
                     } else if gauge != Gauge::Symmetric {
                         fixed.push(P::Mat(i, j));
                     }
@@ -510,7 +541,9 @@ const INC_EDGE: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
 impl Problem<'_> {
     fn uses_inc(&self, o: &Observation) -> bool {
-        self.use_inc && o.ref_inclination.is_some_and(|t| t > INC_EDGE && t < std::f64::consts::PI - INC_EDGE)
+        self.use_inc
+            && o.ref_inclination
+                .is_some_and(|t| t > INC_EDGE && t < std::f64::consts::PI - INC_EDGE)
     }
     fn n_residuals(&self) -> usize {
         self.obs
@@ -537,7 +570,9 @@ impl Problem<'_> {
         let mut jy = DMatrix::zeros(3, np);
         let mut row = 0;
         for o in self.obs {
-            let y = self.state.eval(&self.params, o, want_jac.then_some(&mut jy));
+            let y = self
+                .state
+                .eval(&self.params, o, want_jac.then_some(&mut jy));
             if let Some(v) = o.ref_vector {
                 let d = (y - v) / self.sigma_norm;
                 for k in 0..3 {
@@ -555,7 +590,8 @@ impl Problem<'_> {
                 if let Some(j) = jac.as_mut() {
                     let u = y / n;
                     for c in 0..np {
-                        j[(row, c)] = (u.x * jy[(0, c)] + u.y * jy[(1, c)] + u.z * jy[(2, c)]) / self.sigma_norm;
+                        j[(row, c)] = (u.x * jy[(0, c)] + u.y * jy[(1, c)] + u.z * jy[(2, c)])
+                            / self.sigma_norm;
                     }
                 }
                 row += 1;
@@ -568,7 +604,8 @@ impl Problem<'_> {
                 if let Some(j) = jac.as_mut() {
                     let g = Vec3::new(y.x * y.z / (rho * n2), y.y * y.z / (rho * n2), -rho / n2);
                     for c in 0..np {
-                        j[(row, c)] = (g.x * jy[(0, c)] + g.y * jy[(1, c)] + g.z * jy[(2, c)]) / self.sigma_inc;
+                        j[(row, c)] = (g.x * jy[(0, c)] + g.y * jy[(1, c)] + g.z * jy[(2, c)])
+                            / self.sigma_inc;
                     }
                 }
                 row += 1;
@@ -589,7 +626,12 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
         }
     }
     fn params(&self) -> DVector<f64> {
-        DVector::from_iterator(self.params.len(), self.params.iter().map(|p| self.state.get(*p) * p.solver_scale()))
+        DVector::from_iterator(
+            self.params.len(),
+            self.params
+                .iter()
+                .map(|p| self.state.get(*p) * p.solver_scale()),
+        )
     }
     fn residuals(&self) -> Option<DVector<f64>> {
         let (r, _) = self.compute(false);
@@ -616,15 +658,21 @@ pub(crate) fn covariance(j: &DMatrix<f64>) -> (DMatrix<f64>, f64, usize) {
         })
         .collect();
     let mut js = j.clone();
-    for c in 0..n {
-        js.column_mut(c).scale_mut(scale[c]);
+    for (c, s) in scale.iter().enumerate() {
+        js.column_mut(c).scale_mut(*s);
     }
     let svd = js.svd(false, true);
     let sv = &svd.singular_values;
     let smax = sv.max();
-    let (imin, smin) = sv.iter().enumerate().fold((0, f64::INFINITY), |a, (i, &s)| if s < a.1 { (i, s) } else { a });
+    let (imin, smin) =
+        sv.iter().enumerate().fold(
+            (0, f64::INFINITY),
+            |a, (i, &s)| if s < a.1 { (i, s) } else { a },
+        );
     let vt = svd.v_t.as_ref().expect("v_t requested");
-    let weakest = (0..n).max_by(|&a, &b| vt[(imin, a)].abs().total_cmp(&vt[(imin, b)].abs())).unwrap_or(0);
+    let weakest = (0..n)
+        .max_by(|&a, &b| vt[(imin, a)].abs().total_cmp(&vt[(imin, b)].abs()))
+        .unwrap_or(0);
     // (JᵀJ)⁻¹ = D V Σ⁻² Vᵀ D
     let mut cov = DMatrix::zeros(n, n);
     for k in 0..sv.len() {
@@ -650,14 +698,14 @@ pub(crate) fn covariance(j: &DMatrix<f64>) -> (DMatrix<f64>, f64, usize) {
 /// (normalised component ≥ 0.5, i.e. within 60°).
 pub fn missing_half_axes(obs: &[Observation]) -> Vec<String> {
     let mut out = Vec::new();
-    for i in 0..3 {
+    for (i, ax) in AX.iter().enumerate() {
         for sgn in [1.0, -1.0] {
             let seen = obs.iter().any(|o| {
                 let n = o.raw.norm();
                 n > 0.0 && sgn * o.raw[i] / n >= 0.5
             });
             if !seen {
-                out.push(format!("{}{}", if sgn > 0.0 { "+" } else { "-" }, AX[i]));
+                out.push(format!("{}{ax}", if sgn > 0.0 { "+" } else { "-" }));
             }
         }
     }
@@ -691,21 +739,40 @@ pub fn observations_from_poses(poses: &[Pose], kind: TriadKind) -> Vec<Observati
 pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
     let vector = obs.iter().any(|o| o.ref_vector.is_some());
     if vector && obs.iter().any(|o| o.ref_vector.is_none()) {
-        return Err(Error::new(ErrorKind::InvalidInput, "either every observation has a reference vector or none"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "either every observation has a reference vector or none",
+        ));
     }
     if !vector && opt.reference_norm.is_none() {
-        return Err(Error::new(ErrorKind::InvalidInput, "a magnitude fit needs a reference magnitude"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "a magnitude fit needs a reference magnitude",
+        ));
     }
     if obs.is_empty() {
-        return Err(Error::new(ErrorKind::Degenerate, "no observation to fit (no usable pose)"));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            "no observation to fit (no usable pose)",
+        ));
     }
     if obs.iter().any(|o| !o.raw.iter().all(|v| v.is_finite())) {
-        return Err(Error::new(ErrorKind::InvalidInput, "an observation holds a non-finite reading"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "an observation holds a non-finite reading",
+        ));
     }
     let use_inc = !vector
         && opt.use_ref_inclination
         && opt.kind == TriadKind::Accel
-        && obs.iter().filter(|o| o.ref_inclination.is_some_and(|t| t > INC_EDGE && t < std::f64::consts::PI - INC_EDGE)).count() >= 2;
+        && obs
+            .iter()
+            .filter(|o| {
+                o.ref_inclination
+                    .is_some_and(|t| t > INC_EDGE && t < std::f64::consts::PI - INC_EDGE)
+            })
+            .count()
+            >= 2;
     let gauge = if vector {
         Gauge::Full
     } else if opt.kind == TriadKind::Mag {
@@ -719,16 +786,24 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
 
     // temperatures
     let temps: Vec<f64> = obs.iter().filter_map(|o| o.temp_c).collect();
-    if opt.model == ModelKind::Mwd30 {
-        if temps.len() != obs.len() {
-            return Err(Error::new(ErrorKind::MissingColumn, "the mwd30 model needs a temperature for every pose").at_column("temp_c"));
-        }
+    if opt.model == ModelKind::Mwd30 && temps.len() != obs.len() {
+        return Err(Error::new(
+            ErrorKind::MissingColumn,
+            "the mwd30 model needs a temperature for every pose",
+        )
+        .at_column("temp_c"));
     }
-    let (tmin, tmax) = temps.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| (a.0.min(t), a.1.max(t)));
+    let (tmin, tmax) = temps
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| {
+            (a.0.min(t), a.1.max(t))
+        });
     if opt.model == ModelKind::Mwd30 && tmax - tmin < 10.0 {
         return Err(Error::new(
             ErrorKind::Degenerate,
-            format!("the mwd30 model needs poses over a temperature range (at least 10 °C); found {tmin:.1}–{tmax:.1} °C: use mwd12 or heat the sensor between poses"),
+            format!(
+                "the mwd30 model needs poses over a temperature range (at least 10 °C); found {tmin:.1}–{tmax:.1} °C: use mwd12 or heat the sensor between poses"
+            ),
         ));
     }
 
@@ -742,7 +817,10 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
                     "{} poses, but the pose set is degenerate: no pose with the {} axis pointing along the reference (within 60°); add poses with {}",
                     obs.len(),
                     miss.join(", "),
-                    miss.iter().map(|m| format!("{m} up")).collect::<Vec<_>>().join(", ")
+                    miss.iter()
+                        .map(|m| format!("{m} up"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ),
             ));
         }
@@ -773,12 +851,25 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         ));
     }
     // observability at the start
-    let j0 = prob.jacobian().ok_or_else(|| Error::new(ErrorKind::InvalidInput, "non-finite Jacobian at the initial guess"))?;
+    let j0 = prob.jacobian().ok_or_else(|| {
+        Error::new(
+            ErrorKind::InvalidInput,
+            "non-finite Jacobian at the initial guess",
+        )
+    })?;
     let (_, rel0, weak0) = covariance(&j0);
     if rel0 < 1e-9 {
         return Err(Error::new(
             ErrorKind::Degenerate,
-            format!("the poses cannot determine {} (rank-deficient fit): add poses in other orientations{}", params[weak0].name(), if opt.model == ModelKind::Mwd30 { " and temperatures" } else { "" }),
+            format!(
+                "the poses cannot determine {} (rank-deficient fit): add poses in other orientations{}",
+                params[weak0].name(),
+                if opt.model == ModelKind::Mwd30 {
+                    " and temperatures"
+                } else {
+                    ""
+                }
+            ),
         ));
     }
 
@@ -789,15 +880,38 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         .with_patience(200)
         .minimize(prob);
     use levenberg_marquardt::TerminationReason as T;
-    let ok = report.termination.was_successful() || matches!(report.termination, T::NoImprovementPossible(_) | T::LostPatience);
+    let ok = report.termination.was_successful()
+        || matches!(
+            report.termination,
+            T::NoImprovementPossible(_) | T::LostPatience
+        );
     if !ok {
-        return Err(Error::new(ErrorKind::NotConverged, format!("the fit did not converge: {:?}", report.termination)));
+        return Err(Error::new(
+            ErrorKind::NotConverged,
+            format!("the fit did not converge: {:?}", report.termination),
+        ));
     }
-    let r = prob.residuals().ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite residuals at the solution"))?;
-    let j = prob.jacobian().ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite Jacobian at the solution"))?;
+    let r = prob.residuals().ok_or_else(|| {
+        Error::new(
+            ErrorKind::NotConverged,
+            "non-finite residuals at the solution",
+        )
+    })?;
+    let j = prob.jacobian().ok_or_else(|| {
+        Error::new(
+            ErrorKind::NotConverged,
+            "non-finite Jacobian at the solution",
+        )
+    })?;
     let (cov, rel, weak) = covariance(&j);
     if rel < 1e-10 {
-        return Err(Error::new(ErrorKind::Degenerate, format!("the poses cannot determine {}: add poses in other orientations", params[weak].name())));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            format!(
+                "the poses cannot determine {}: add poses in other orientations",
+                params[weak].name()
+            ),
+        ));
     }
     let dof = (m - params.len()) as f64;
     let s2 = r.norm_squared() / dof;
@@ -805,7 +919,12 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
     let est: Vec<ParamEstimate> = params
         .iter()
         .enumerate()
-        .map(|(k, p)| ParamEstimate { name: p.name(), value: prob.state.get(*p), sigma: (s2 * cov[(k, k)]).sqrt() / p.solver_scale(), unit: p.unit(unit) })
+        .map(|(k, p)| ParamEstimate {
+            name: p.name(),
+            value: prob.state.get(*p),
+            sigma: (s2 * cov[(k, k)]).sqrt() / p.solver_scale(),
+            unit: p.unit(unit),
+        })
         .collect();
 
     // residual table before/after
@@ -818,8 +937,14 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         res.push(ObsResidual {
             index: i,
             temp_c: o.temp_c,
-            norm_error_before: opt.reference_norm.filter(|_| !vector).map(|g| yb.norm() - g),
-            norm_error_after: opt.reference_norm.filter(|_| !vector).map(|g| ya.norm() - g),
+            norm_error_before: opt
+                .reference_norm
+                .filter(|_| !vector)
+                .map(|g| yb.norm() - g),
+            norm_error_after: opt
+                .reference_norm
+                .filter(|_| !vector)
+                .map(|g| ya.norm() - g),
             inclination_error_before_deg: o.ref_inclination.map(|t| (inc(&yb) - t).to_degrees()),
             inclination_error_after_deg: o.ref_inclination.map(|t| (inc(&ya) - t).to_degrees()),
             vector_error_before: o.ref_vector.map(|v| (yb - v).norm()),
@@ -831,13 +956,20 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         (!v.is_empty()).then(|| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt())
     };
     // valid over the poses' temperatures widened by 1 °C (a cubic is harmless that far)
-    let valid = if temps.is_empty() { [opt.tc_c - 1.0, opt.tc_c + 1.0] } else { [tmin - 1.0, tmax + 1.0] };
+    let valid = if temps.is_empty() {
+        [opt.tc_c - 1.0, opt.tc_c + 1.0]
+    } else {
+        [tmin - 1.0, tmax + 1.0]
+    };
     Ok(TriadFit {
         kind: opt.kind,
         model: opt.model,
         gauge,
         convention: gauge.statement().to_string(),
-        calibration: TriadCalibration { model: prob.state.to_model(), valid_temp_c: valid },
+        calibration: TriadCalibration {
+            model: prob.state.to_model(),
+            valid_temp_c: valid,
+        },
         params: est,
         fixed: fixed.iter().map(|p| p.name()).collect(),
         rms_norm_before: rms(&|r| r.norm_error_before),
@@ -864,11 +996,17 @@ fn initial_state(obs: &[Observation], opt: &FitOptions, vector: bool) -> State {
         (Vec3::zeros(), 1.0)
     } else {
         let r = obs.iter().map(|o| o.raw.norm()).sum::<f64>() / obs.len() as f64;
-        (Vec3::zeros(), opt.reference_norm.unwrap_or(r) / r.max(1e-12))
+        (
+            Vec3::zeros(),
+            opt.reference_norm.unwrap_or(r) / r.max(1e-12),
+        )
     };
     let s0 = if s0.is_finite() && s0 > 0.0 { s0 } else { 1.0 };
     match opt.model {
-        ModelKind::Matrix => State::Matrix { m: Matrix3::identity() * s0, b: b0 },
+        ModelKind::Matrix => State::Matrix {
+            m: Matrix3::identity() * s0,
+            b: b0,
+        },
         ModelKind::Mwd12 | ModelKind::Mwd30 => {
             let mut md = MwdModel::identity(opt.tc_c);
             for i in 0..3 {
@@ -890,8 +1028,14 @@ mod tests {
         for k in 0..30 {
             let a = k as f64 * 0.7;
             let b = k as f64 * 1.3;
-            let u = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * 9.7 + Vec3::new(0.05, -0.02, 0.1);
-            v.push(Observation { raw: u, temp_c: Some(25.0 + 2.0 * k as f64), ref_inclination: Some(b.cos().acos()), ref_vector: None });
+            let u = Vec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos()) * 9.7
+                + Vec3::new(0.05, -0.02, 0.1);
+            v.push(Observation {
+                raw: u,
+                temp_c: Some(25.0 + 2.0 * k as f64),
+                ref_inclination: Some(b.cos().acos()),
+                ref_vector: None,
+            });
         }
         v
     }
@@ -907,17 +1051,36 @@ mod tests {
         let mut state = initial_state(&obs, &FitOptions::accel(model), vector);
         // move away from the identity so every term is exercised
         for (k, p) in params.iter().enumerate() {
-            let v = state.get(*p) + 1e-3 * ((k as f64 + 1.0) * 1.7).sin() * if matches!(p, P::Sf(_, k) | P::B(_, k) if *k > 1) { 1e-3 } else { 1.0 };
+            let v = state.get(*p)
+                + 1e-3
+                    * ((k as f64 + 1.0) * 1.7).sin()
+                    * if matches!(p, P::Sf(_, k) | P::B(_, k) if *k > 1) {
+                        1e-3
+                    } else {
+                        1.0
+                    };
             state.set(*p, v);
         }
-        let mut prob = Problem { state, params, obs: &obs, reference_norm: Some(9.80665), sigma_norm: 1.0, sigma_inc: 0.1, use_inc: true };
+        let mut prob = Problem {
+            state,
+            params,
+            obs: &obs,
+            reference_norm: Some(9.80665),
+            sigma_norm: 1.0,
+            sigma_inc: 0.1,
+            use_inc: true,
+        };
         let hand = prob.jacobian().unwrap();
         // (a scale factor exactly 1 would hit 0 at the crate's first unit step)
         let num = differentiate_numerically(&mut prob).unwrap();
         for c in 0..hand.ncols() {
             let scale = num.column(c).norm().max(1e-12);
             let err = (hand.column(c) - num.column(c)).norm() / scale;
-            assert!(err < 1e-5, "{model:?} {gauge:?} column {c} ({}): rel err {err}", prob.params[c].name());
+            assert!(
+                err < 1e-5,
+                "{model:?} {gauge:?} column {c} ({}): rel err {err}",
+                prob.params[c].name()
+            );
         }
     }
 
@@ -949,7 +1112,12 @@ mod tests {
     fn degenerate_pose_sets_say_what_is_missing() {
         // all poses near +z
         let obs: Vec<_> = (0..20)
-            .map(|k| Observation::new(Vec3::new(0.1 * (k as f64).sin(), 0.1 * (k as f64).cos(), 9.8), None))
+            .map(|k| {
+                Observation::new(
+                    Vec3::new(0.1 * (k as f64).sin(), 0.1 * (k as f64).cos(), 9.8),
+                    None,
+                )
+            })
             .collect();
         let e = fit_triad(&obs, &FitOptions::accel(ModelKind::Mwd12)).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Degenerate);
@@ -958,16 +1126,38 @@ mod tests {
         }
         assert!(!e.message.contains("+z"), "{}", e.message);
         // six poses but twelve parameters
-        let six: Vec<_> = [Vec3::x(), -Vec3::x(), Vec3::y(), -Vec3::y(), Vec3::z(), -Vec3::z()]
-            .iter()
-            .map(|u| Observation::new(u * 9.8, Some(30.0)))
-            .collect();
+        let six: Vec<_> = [
+            Vec3::x(),
+            -Vec3::x(),
+            Vec3::y(),
+            -Vec3::y(),
+            Vec3::z(),
+            -Vec3::z(),
+        ]
+        .iter()
+        .map(|u| Observation::new(u * 9.8, Some(30.0)))
+        .collect();
         let e = fit_triad(&six[..6], &FitOptions::accel(ModelKind::Matrix)).unwrap_err();
         assert!(e.message.contains("add poses"), "{}", e.message);
         // no observation
-        assert_eq!(fit_triad(&[], &FitOptions::accel(ModelKind::Mwd12)).unwrap_err().kind, ErrorKind::Degenerate);
+        assert_eq!(
+            fit_triad(&[], &FitOptions::accel(ModelKind::Mwd12))
+                .unwrap_err()
+                .kind,
+            ErrorKind::Degenerate
+        );
         // mwd30 without temperature spread
-        let e = fit_triad(&obs_set().iter().map(|o| Observation { temp_c: Some(30.0), ..*o }).collect::<Vec<_>>(), &FitOptions::accel(ModelKind::Mwd30)).unwrap_err();
+        let e = fit_triad(
+            &obs_set()
+                .iter()
+                .map(|o| Observation {
+                    temp_c: Some(30.0),
+                    ..*o
+                })
+                .collect::<Vec<_>>(),
+            &FitOptions::accel(ModelKind::Mwd30),
+        )
+        .unwrap_err();
         assert!(e.message.contains("temperature"), "{}", e.message);
     }
 }

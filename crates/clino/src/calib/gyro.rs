@@ -16,7 +16,7 @@
 //!   gravity directions a. Rotations about each axis are needed; the rotation
 //!   about gravity of any one move is invisible, so moves must be varied.
 
-use super::fit::{covariance, fit_triad, FitOptions, ModelKind, Observation, TriadFit};
+use super::fit::{FitOptions, ModelKind, Observation, TriadFit, covariance, fit_triad};
 use super::recording::Recording;
 use super::statics::Pose;
 use crate::{Error, ErrorKind, Result};
@@ -28,8 +28,17 @@ use serde::Serialize;
 
 /// Segments of constant reference rate as observations (mean raw, mean temperature, reference).
 pub fn rate_table_observations(rec: &Recording) -> Result<Vec<Observation>> {
-    let gyr = rec.gyr.as_ref().ok_or_else(|| rec.error(ErrorKind::MissingColumn, "gyro calibration needs the gyro").at_column("gyr_x_rad_s"))?;
-    let rf = rec.ref_gyr.as_ref().ok_or_else(|| rec.error(ErrorKind::MissingColumn, "rate-table calibration needs the table's rate").at_column("ref_gyr_x_rad_s"))?;
+    let gyr = rec.gyr.as_ref().ok_or_else(|| {
+        rec.error(ErrorKind::MissingColumn, "gyro calibration needs the gyro")
+            .at_column("gyr_x_rad_s")
+    })?;
+    let rf = rec.ref_gyr.as_ref().ok_or_else(|| {
+        rec.error(
+            ErrorKind::MissingColumn,
+            "rate-table calibration needs the table's rate",
+        )
+        .at_column("ref_gyr_x_rad_s")
+    })?;
     let mut out = Vec::new();
     let mut a = 0;
     while a < rec.len() {
@@ -41,7 +50,12 @@ pub fn rate_table_observations(rec: &Recording) -> Result<Vec<Observation>> {
             let k = (b - a) as f64;
             let raw = gyr[a..b].iter().fold(Vec3::zeros(), |s, x| s + x) / k;
             let temp = rec.temp_c.as_ref().map(|t| t[a..b].iter().sum::<f64>() / k);
-            out.push(Observation { raw, temp_c: temp, ref_inclination: None, ref_vector: Some(rf[a]) });
+            out.push(Observation {
+                raw,
+                temp_c: temp,
+                ref_inclination: None,
+                ref_vector: Some(rf[a]),
+            });
         }
         a = b;
     }
@@ -53,7 +67,10 @@ pub fn rate_table(rec: &Recording, model: ModelKind) -> Result<TriadFit> {
     let obs = rate_table_observations(rec)?;
     let mut missing = Vec::new();
     for (i, ax) in ["x", "y", "z"].iter().enumerate() {
-        if !obs.iter().any(|o| o.ref_vector.is_some_and(|v| v.norm() > 0.0 && v[i].abs() >= 0.5 * v.norm())) {
+        if !obs.iter().any(|o| {
+            o.ref_vector
+                .is_some_and(|v| v.norm() > 0.0 && v[i].abs() >= 0.5 * v.norm())
+        }) {
             missing.push(*ax);
         }
     }
@@ -63,7 +80,14 @@ pub fn rate_table(rec: &Recording, model: ModelKind) -> Result<TriadFit> {
             format!("{} rate-table segments, but no run about the {} axis: turn the table about every axis", obs.len(), missing.join(", ")),
         ));
     }
-    let opt = FitOptions { kind: TriadKind::Gyro, model, reference_norm: None, tc_c: 30.0, use_ref_inclination: false, inclination_weight: 1.0 };
+    let opt = FitOptions {
+        kind: TriadKind::Gyro,
+        model,
+        reference_norm: None,
+        tc_c: 30.0,
+        use_ref_inclination: false,
+        inclination_weight: 1.0,
+    };
     fit_triad(&obs, &opt).map_err(|e| match &rec.path {
         Some(p) if e.file.is_none() => e.in_file(p),
         _ => e,
@@ -109,7 +133,9 @@ struct RotProblem {
 
 impl RotProblem {
     fn rotation(&self, inc: &[Vec3]) -> Attitude {
-        inc.iter().fold(Attitude::identity(), |r, w| r * Attitude::from_scaled_axis(self.m * w))
+        inc.iter().fold(Attitude::identity(), |r, w| {
+            r * Attitude::from_scaled_axis(self.m * w)
+        })
     }
     fn predicted(&self, k: usize) -> Vec3 {
         let (inc, a0, _) = &self.moves[k];
@@ -164,15 +190,31 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for RotProblem {
 /// module documentation). `poses` are the static poses of `rec` (from
 /// [`super::statics::detect_static`]); `accel` optionally calibrates the
 /// accelerometer first (the gravity directions are only as good as it).
-pub fn from_rotations(rec: &Recording, poses: &[Pose], accel: Option<&TriadCalibration>) -> Result<RotationFit> {
-    let gyr = rec.gyr.as_ref().ok_or_else(|| rec.error(ErrorKind::MissingColumn, "gyro calibration needs the gyro").at_column("gyr_x_rad_s"))?;
-    let acc = rec.acc.as_ref().ok_or_else(|| rec.error(ErrorKind::MissingColumn, "calibrating the gyro from rotations needs the accelerometer").at_column("acc_x_m_s2"))?;
+pub fn from_rotations(
+    rec: &Recording,
+    poses: &[Pose],
+    accel: Option<&TriadCalibration>,
+) -> Result<RotationFit> {
+    let gyr = rec.gyr.as_ref().ok_or_else(|| {
+        rec.error(ErrorKind::MissingColumn, "gyro calibration needs the gyro")
+            .at_column("gyr_x_rad_s")
+    })?;
+    let acc = rec.acc.as_ref().ok_or_else(|| {
+        rec.error(
+            ErrorKind::MissingColumn,
+            "calibrating the gyro from rotations needs the accelerometer",
+        )
+        .at_column("acc_x_m_s2")
+    })?;
     let _ = acc;
     if poses.len() < 4 {
         return Err(rec.error(ErrorKind::Degenerate, format!("{} static poses; calibrating the gyro from rotations needs at least 4 (moves about each axis)", poses.len())));
     }
     let n_static: usize = poses.iter().map(|p| p.n).sum();
-    let b = poses.iter().fold(Vec3::zeros(), |s, p| s + p.gyr() * p.n as f64) / n_static as f64;
+    let b = poses
+        .iter()
+        .fold(Vec3::zeros(), |s, p| s + p.gyr() * p.n as f64)
+        / n_static as f64;
     let dir = |p: &Pose| {
         let a = match accel {
             Some(c) => c.model.apply(p.acc(), p.temp_c),
@@ -183,7 +225,9 @@ pub fn from_rotations(rec: &Recording, poses: &[Pose], accel: Option<&TriadCalib
     let mut moves = Vec::new();
     for w in poses.windows(2) {
         let (i0, i1) = (w[0].rows[1], w[1].rows[0]);
-        let inc: Vec<Vec3> = (i0..i1).map(|i| ((gyr[i] - b) + (gyr[i + 1] - b)) * 0.5 * (rec.t_s[i + 1] - rec.t_s[i])).collect();
+        let inc: Vec<Vec3> = (i0..i1)
+            .map(|i| ((gyr[i] - b) + (gyr[i + 1] - b)) * 0.5 * (rec.t_s[i + 1] - rec.t_s[i]))
+            .collect();
         moves.push((inc, dir(&w[0]), dir(&w[1])));
     }
     // coverage: a substantial rotation about each axis
@@ -200,19 +244,48 @@ pub fn from_rotations(rec: &Recording, poses: &[Pose], accel: Option<&TriadCalib
     if !missing.is_empty() {
         return Err(rec.error(ErrorKind::Degenerate, format!("no rotation of more than 10° about the {} axis between static poses: turn the sensor about every axis", missing.join(", "))));
     }
-    let prob = RotProblem { m: Matrix3::identity(), moves };
+    let prob = RotProblem {
+        m: Matrix3::identity(),
+        moves,
+    };
     let angle = |p: &RotProblem, k: usize| p.predicted(k).angle(&p.moves[k].2).to_degrees();
     let before: Vec<f64> = (0..prob.moves.len()).map(|k| angle(&prob, k)).collect();
-    let (prob, report) = LevenbergMarquardt::new().with_ftol(1e-14).with_xtol(1e-12).with_gtol(1e-14).minimize(prob);
+    let (prob, report) = LevenbergMarquardt::new()
+        .with_ftol(1e-14)
+        .with_xtol(1e-12)
+        .with_gtol(1e-14)
+        .minimize(prob);
     use levenberg_marquardt::TerminationReason as T;
-    if !(report.termination.was_successful() || matches!(report.termination, T::NoImprovementPossible(_) | T::LostPatience)) {
-        return Err(Error::new(ErrorKind::NotConverged, format!("gyro rotation fit did not converge: {:?}", report.termination)));
+    if !(report.termination.was_successful()
+        || matches!(
+            report.termination,
+            T::NoImprovementPossible(_) | T::LostPatience
+        ))
+    {
+        return Err(Error::new(
+            ErrorKind::NotConverged,
+            format!(
+                "gyro rotation fit did not converge: {:?}",
+                report.termination
+            ),
+        ));
     }
-    let r = prob.residuals().ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite residuals"))?;
-    let j = prob.jacobian().ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite Jacobian"))?;
+    let r = prob
+        .residuals()
+        .ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite residuals"))?;
+    let j = prob
+        .jacobian()
+        .ok_or_else(|| Error::new(ErrorKind::NotConverged, "non-finite Jacobian"))?;
     let (cov, rel, weak) = covariance(&j);
     if rel < 1e-9 {
-        return Err(Error::new(ErrorKind::Degenerate, format!("the moves cannot determine M_{}{}: rotate about other axes", ["x", "y", "z"][weak / 3], ["x", "y", "z"][weak % 3])));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            format!(
+                "the moves cannot determine M_{}{}: rotate about other axes",
+                ["x", "y", "z"][weak / 3],
+                ["x", "y", "z"][weak % 3]
+            ),
+        ));
     }
     let dof = (r.len() as f64 - 9.0).max(1.0);
     let s2 = r.norm_squared() / dof;
@@ -232,12 +305,24 @@ pub fn from_rotations(rec: &Recording, poses: &[Pose], accel: Option<&TriadCalib
             error_after_deg: angle(&prob, k),
         })
         .collect();
-    let rms = |f: &dyn Fn(&MoveResidual) -> f64| (moves.iter().map(|m| f(m).powi(2)).sum::<f64>() / moves.len() as f64).sqrt();
+    let rms = |f: &dyn Fn(&MoveResidual) -> f64| {
+        (moves.iter().map(|m| f(m).powi(2)).sum::<f64>() / moves.len() as f64).sqrt()
+    };
     let temps: Vec<f64> = poses.iter().filter_map(|p| p.temp_c).collect();
-    let valid = if temps.is_empty() { [-1e9, 1e9] } else { [temps.iter().cloned().fold(f64::INFINITY, f64::min), temps.iter().cloned().fold(f64::NEG_INFINITY, f64::max)] };
+    let valid = if temps.is_empty() {
+        [-1e9, 1e9]
+    } else {
+        [
+            temps.iter().cloned().fold(f64::INFINITY, f64::min),
+            temps.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+        ]
+    };
     Ok(RotationFit {
         calibration: TriadCalibration {
-            model: TriadModel::Matrix(MatrixModel { bias: [b.x, b.y, b.z], matrix: std::array::from_fn(|i| std::array::from_fn(|j| prob.m[(i, j)])) }),
+            model: TriadModel::Matrix(MatrixModel {
+                bias: [b.x, b.y, b.z],
+                matrix: std::array::from_fn(|i| std::array::from_fn(|j| prob.m[(i, j)])),
+            }),
             valid_temp_c: valid,
         },
         bias: [b.x, b.y, b.z],

@@ -52,21 +52,36 @@ pub mod synth;
 mod tests;
 
 pub use file::{CalibrationFile, TriadEntry};
-pub use fit::{fit_triad, FitOptions, ModelKind, Observation, TriadFit};
+pub use fit::{FitOptions, ModelKind, Observation, TriadFit, fit_triad};
 pub use recording::Recording;
-pub use statics::{detect_static, Pose, StaticOptions, StaticReport};
+pub use statics::{Pose, StaticOptions, StaticReport, detect_static};
 
 use crate::{ErrorKind, Result};
-use clino_core::sensor::{TriadCalibration, TriadKind};
 use clino_core::Vec3;
+use clino_core::sensor::{TriadCalibration, TriadKind};
 
 /// The file entry of a fit (units, valid range, convention, 1σ of every parameter).
 pub fn entry_from_fit(fit: &TriadFit, method: &str) -> TriadEntry {
-    entry(fit.kind, fit.calibration, method, &fit.convention, fit.params.iter().map(|p| (p.name.clone(), p.sigma)).collect())
+    entry(
+        fit.kind,
+        fit.calibration,
+        method,
+        &fit.convention,
+        fit.params
+            .iter()
+            .map(|p| (p.name.clone(), p.sigma))
+            .collect(),
+    )
 }
 
 /// A file entry from a calibration.
-pub fn entry(kind: TriadKind, cal: TriadCalibration, method: &str, convention: &str, sigma: std::collections::BTreeMap<String, f64>) -> TriadEntry {
+pub fn entry(
+    kind: TriadKind,
+    cal: TriadCalibration,
+    method: &str,
+    convention: &str,
+    sigma: std::collections::BTreeMap<String, f64>,
+) -> TriadEntry {
     TriadEntry {
         unit: kind.unit().into(),
         raw_unit: format!("{} (raw reading)", kind.unit()),
@@ -80,10 +95,22 @@ pub fn entry(kind: TriadKind, cal: TriadCalibration, method: &str, convention: &
 
 /// Accelerometer calibration of a continuous recording: static detection, then
 /// the multi-position fit of `model` (using `ref_inclination_deg` when present).
-pub fn calibrate_accel(rec: &Recording, model: ModelKind, statics: &StaticOptions, g: f64) -> Result<(StaticReport, TriadFit)> {
+pub fn calibrate_accel(
+    rec: &Recording,
+    model: ModelKind,
+    statics: &StaticOptions,
+    g: f64,
+) -> Result<(StaticReport, TriadFit)> {
     let report = detect_static(rec, statics)?;
     let obs = fit::observations_from_poses(&report.poses, TriadKind::Accel);
-    let fit = fit_triad(&obs, &FitOptions { reference_norm: Some(g), ..FitOptions::accel(model) }).map_err(|e| locate(e, rec))?;
+    let fit = fit_triad(
+        &obs,
+        &FitOptions {
+            reference_norm: Some(g),
+            ..FitOptions::accel(model)
+        },
+    )
+    .map_err(|e| locate(e, rec))?;
     Ok((report, fit))
 }
 
@@ -92,9 +119,18 @@ pub fn calibrate_accel(rec: &Recording, model: ModelKind, statics: &StaticOption
 /// magnitude; when `None` the mean raw magnitude about the centre is used (the
 /// scale of a magnetometer is not observable from its own data).
 pub fn calibrate_mag(rec: &Recording, model: ModelKind, field_ut: Option<f64>) -> Result<TriadFit> {
-    let mag = rec.mag.as_ref().ok_or_else(|| rec.error(ErrorKind::MissingColumn, "magnetometer calibration needs the magnetometer").at_column("mag_x_uT"))?;
+    let mag = rec.mag.as_ref().ok_or_else(|| {
+        rec.error(
+            ErrorKind::MissingColumn,
+            "magnetometer calibration needs the magnetometer",
+        )
+        .at_column("mag_x_uT")
+    })?;
     let step = mag.len().div_ceil(3000).max(1);
-    let obs: Vec<Observation> = (0..mag.len()).step_by(step).map(|i| Observation::new(mag[i], rec.temp_c.as_ref().map(|t| t[i]))).collect();
+    let obs: Vec<Observation> = (0..mag.len())
+        .step_by(step)
+        .map(|i| Observation::new(mag[i], rec.temp_c.as_ref().map(|t| t[i])))
+        .collect();
     let field = match field_ut {
         Some(f) => f,
         None => {
@@ -102,7 +138,14 @@ pub fn calibrate_mag(rec: &Recording, model: ModelKind, field_ut: Option<f64>) -
             obs.iter().map(|o| (o.raw - c).norm()).sum::<f64>() / obs.len() as f64
         }
     };
-    let opt = FitOptions { kind: TriadKind::Mag, model, reference_norm: Some(field), tc_c: 30.0, use_ref_inclination: false, inclination_weight: 1.0 };
+    let opt = FitOptions {
+        kind: TriadKind::Mag,
+        model,
+        reference_norm: Some(field),
+        tc_c: 30.0,
+        use_ref_inclination: false,
+        inclination_weight: 1.0,
+    };
     fit_triad(&obs, &opt).map_err(|e| locate(e, rec))
 }
 
@@ -115,7 +158,12 @@ fn locate(e: crate::Error, rec: &Recording) -> crate::Error {
 
 /// Tilt error (angle between calibrated and true specific force, rad) and
 /// magnitude error (m/s²) of a calibration at one raw reading.
-pub fn tilt_and_norm_error(cal: &TriadCalibration, raw: Vec3, temp_c: f64, truth: Vec3) -> (f64, f64) {
+pub fn tilt_and_norm_error(
+    cal: &TriadCalibration,
+    raw: Vec3,
+    temp_c: f64,
+    truth: Vec3,
+) -> (f64, f64) {
     let y = cal.model.apply(raw, Some(temp_c));
     (y.angle(&truth), y.norm() - truth.norm())
 }
@@ -132,11 +180,17 @@ pub fn demo_summary() -> Result<String> {
     ups.extend(synth::cube_directions());
     let att = synth::attitudes_from_ups(&ups);
     let temps = synth::spread_temperatures(opt.temp_range_c, att.len());
-    let obs: Vec<Observation> = synth::accel_pose_observations(&opt, &att, &temps, 100).into_iter().map(|(o, _)| o).collect();
+    let obs: Vec<Observation> = synth::accel_pose_observations(&opt, &att, &temps, 100)
+        .into_iter()
+        .map(|(o, _)| o)
+        .collect();
     let f12 = fit_triad(&obs, &FitOptions::accel(ModelKind::Mwd12))?;
     let f30 = fit_triad(&obs, &FitOptions::accel(ModelKind::Mwd30))?;
     let val = validation_set(&opt, 200, 99);
-    let raw_cal = TriadCalibration { model: clino_core::sensor::TriadModel::Matrix(Default::default()), valid_temp_c: [0.0, 100.0] };
+    let raw_cal = TriadCalibration {
+        model: clino_core::sensor::TriadModel::Matrix(Default::default()),
+        valid_temp_c: [0.0, 100.0],
+    };
     let stats = |c: &TriadCalibration| {
         let mut tmax: f64 = 0.0;
         let mut gmax: f64 = 0.0;
@@ -167,11 +221,102 @@ pub fn validation_set(opt: &synth::SynthOptions, n: usize, seed: u64) -> Vec<(Ve
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     (0..n)
         .map(|_| {
-            let u = Vec3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
-            let u = if u.norm() < 1e-3 { Vec3::z() } else { u.normalize() };
+            let u = Vec3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            let u = if u.norm() < 1e-3 {
+                Vec3::z()
+            } else {
+                u.normalize()
+            };
             let t = rng.random_range(opt.temp_range_c[0]..=opt.temp_range_c[1]);
             let f = u * opt.g;
             (opt.accel.invert(f, t).unwrap_or(f), t, f)
         })
         .collect()
+}
+
+/// Plot a fit's residuals per observation, before and after calibration
+/// (magnitude error, or vector error for rate-table fits; with reference
+/// inclinations a second file `<stem>_inclination.<ext>` shows the inclination error).
+pub fn plot_residuals(path: &std::path::Path, fit: &TriadFit) -> Result<()> {
+    use crate::report::{PlotSpec, Series, line_plot};
+    let (scale, unit) = match fit.kind {
+        TriadKind::Accel => (1e3 / clino_core::G0, "mg"),
+        TriadKind::Gyro => (1.0, "rad/s"),
+        TriadKind::Mag => (1.0, "µT"),
+    };
+    let pts = |f: &dyn Fn(&fit::ObsResidual) -> Option<f64>| -> Vec<(f64, f64)> {
+        fit.residuals
+            .iter()
+            .filter_map(|r| f(r).map(|v| (r.index as f64, v * scale)))
+            .collect()
+    };
+    let vector = fit.rms_vector_after.is_some();
+    let (before, after, what) = if vector {
+        (
+            pts(&|r| r.vector_error_before),
+            pts(&|r| r.vector_error_after),
+            "vector error",
+        )
+    } else {
+        (
+            pts(&|r| r.norm_error_before),
+            pts(&|r| r.norm_error_after),
+            "magnitude error",
+        )
+    };
+    line_plot(
+        path,
+        &PlotSpec {
+            title: format!(
+                "{} calibration ({}): {what} per pose",
+                format!("{:?}", fit.kind).to_lowercase(),
+                fit.model.name()
+            ),
+            x_label: "pose".into(),
+            y_label: format!("{what} ({unit})"),
+            ..Default::default()
+        },
+        &[
+            Series::markers("before", before),
+            Series::markers("after", after),
+        ],
+    )?;
+    if fit.rms_inclination_after_deg.is_some() {
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("residuals");
+        let ext = path.extension().and_then(|s| s.to_str()).unwrap_or("svg");
+        let p2 = path.with_file_name(format!("{stem}_inclination.{ext}"));
+        line_plot(
+            &p2,
+            &PlotSpec {
+                title: "inclination error per pose".into(),
+                x_label: "pose".into(),
+                y_label: "inclination error (deg)".into(),
+                ..Default::default()
+            },
+            &[
+                Series::markers(
+                    "before",
+                    fit.residuals
+                        .iter()
+                        .filter_map(|r| r.inclination_error_before_deg.map(|v| (r.index as f64, v)))
+                        .collect(),
+                ),
+                Series::markers(
+                    "after",
+                    fit.residuals
+                        .iter()
+                        .filter_map(|r| r.inclination_error_after_deg.map(|v| (r.index as f64, v)))
+                        .collect(),
+                ),
+            ],
+        )?;
+    }
+    Ok(())
 }

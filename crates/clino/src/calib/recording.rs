@@ -64,13 +64,8 @@ impl Recording {
     pub fn load(path: &Path) -> Result<Self> {
         let file = std::fs::File::open(path)
             .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
-        let mut r = Self::from_reader(file).map_err(|e| {
-            if e.file.is_none() {
-                e.in_file(path)
-            } else {
-                e
-            }
-        })?;
+        let mut r = Self::from_reader(file)
+            .map_err(|e| if e.file.is_none() { e.in_file(path) } else { e })?;
         r.path = Some(path.to_path_buf());
         Ok(r)
     }
@@ -85,7 +80,11 @@ impl Recording {
             .map(|s| s.trim().to_string())
             .collect();
         let t = col(&headers, "t_s").ok_or_else(|| {
-            Error::new(ErrorKind::MissingColumn, "the recording needs a time column").at_column("t_s")
+            Error::new(
+                ErrorKind::MissingColumn,
+                "the recording needs a time column",
+            )
+            .at_column("t_s")
         })?;
         let triad = |names: [&str; 3]| -> Result<Option<[usize; 3]>> {
             let idx: Vec<Option<usize>> = names.iter().map(|n| col(&headers, n)).collect();
@@ -93,8 +92,18 @@ impl Recording {
                 (Some(a), Some(b), Some(c)) => Ok(Some([a, b, c])),
                 (None, None, None) => Ok(None),
                 _ => {
-                    let missing = names.iter().zip(&idx).find(|(_, i)| i.is_none()).map(|(n, _)| *n).unwrap_or(names[0]);
-                    Err(Error::new(ErrorKind::MissingColumn, "a triad needs all three of its columns").at_column(missing).at_line(1))
+                    let missing = names
+                        .iter()
+                        .zip(&idx)
+                        .find(|(_, i)| i.is_none())
+                        .map(|(n, _)| *n)
+                        .unwrap_or(names[0]);
+                    Err(Error::new(
+                        ErrorKind::MissingColumn,
+                        "a triad needs all three of its columns",
+                    )
+                    .at_column(missing)
+                    .at_line(1))
                 }
             }
         };
@@ -122,7 +131,9 @@ impl Recording {
                 Ok(true) => {}
                 Err(e) => {
                     let line = e.position().map(|p| p.line()).unwrap_or(0);
-                    return Err(Error::new(ErrorKind::Parse, format!("malformed row: {e}")).at_line(line));
+                    return Err(
+                        Error::new(ErrorKind::Parse, format!("malformed row: {e}")).at_line(line)
+                    );
                 }
             }
             let line = rec.position().map(|p| p.line()).unwrap_or(0);
@@ -133,9 +144,11 @@ impl Recording {
                 }
                 match s.parse::<f64>() {
                     Ok(v) if v.is_finite() => Ok(v),
-                    _ => Err(Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
-                        .at_line(line)
-                        .at_column(headers[i].clone())),
+                    _ => Err(
+                        Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
+                            .at_line(line)
+                            .at_column(headers[i].clone()),
+                    ),
                 }
             };
             let ts = num(t, false)?;
@@ -150,7 +163,13 @@ impl Recording {
                 .at_column("t_s"));
             }
             out.t_s.push(ts);
-            let v3 = |ix: [usize; 3]| -> Result<Vec3> { Ok(Vec3::new(num(ix[0], false)?, num(ix[1], false)?, num(ix[2], false)?)) };
+            let v3 = |ix: [usize; 3]| -> Result<Vec3> {
+                Ok(Vec3::new(
+                    num(ix[0], false)?,
+                    num(ix[1], false)?,
+                    num(ix[2], false)?,
+                ))
+            };
             if let (Some(ix), Some(v)) = (acc_i, out.acc.as_mut()) {
                 v.push(v3(ix)?);
             }
@@ -169,17 +188,24 @@ impl Recording {
             if let (Some(i), Some(v)) = (refinc_i, out.ref_inclination_deg.as_mut()) {
                 let x = num(i, true)?;
                 if x.is_finite() && !(0.0..=180.0).contains(&x) {
-                    return Err(Error::new(ErrorKind::InvalidInput, format!("inclination {x}° outside 0–180°"))
-                        .at_line(line)
-                        .at_column("ref_inclination_deg"));
+                    return Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!("inclination {x}° outside 0–180°"),
+                    )
+                    .at_line(line)
+                    .at_column("ref_inclination_deg"));
                 }
                 v.push(x);
             }
             out.line.push(line);
-            out.records.push(rec.iter().map(|s| s.to_string()).collect());
+            out.records
+                .push(rec.iter().map(|s| s.to_string()).collect());
         }
         if out.t_s.is_empty() {
-            return Err(Error::new(ErrorKind::Empty, "the recording has no data rows"));
+            return Err(Error::new(
+                ErrorKind::Empty,
+                "the recording has no data rows",
+            ));
         }
         Ok(out)
     }
@@ -237,8 +263,18 @@ impl Recording {
             t_s: samples.iter().map(|s| s.t_s).collect(),
             acc: Some(samples.iter().map(|s| s.acc_m_s2).collect()),
             gyr: Some(samples.iter().map(|s| s.gyr_rad_s).collect()),
-            mag: has_mag.then(|| samples.iter().map(|s| s.mag_ut.unwrap_or_default()).collect()),
-            temp_c: has_temp.then(|| samples.iter().map(|s| s.temp_c.unwrap_or(f64::NAN)).collect()),
+            mag: has_mag.then(|| {
+                samples
+                    .iter()
+                    .map(|s| s.mag_ut.unwrap_or_default())
+                    .collect()
+            }),
+            temp_c: has_temp.then(|| {
+                samples
+                    .iter()
+                    .map(|s| s.temp_c.unwrap_or(f64::NAN))
+                    .collect()
+            }),
             ref_inclination_deg: ref_inclination_deg.map(|r| r.to_vec()),
             line: (2..2 + samples.len() as u64).collect(),
             ..Default::default()
@@ -259,7 +295,11 @@ impl Recording {
             c.push(format!("{t}"));
         }
         if let Some(r) = &self.ref_inclination_deg {
-            c.push(if r[i].is_finite() { format!("{}", r[i]) } else { String::new() });
+            c.push(if r[i].is_finite() {
+                format!("{}", r[i])
+            } else {
+                String::new()
+            });
         }
         c
     }
@@ -290,7 +330,8 @@ impl Recording {
             put(mi, self.mag.as_ref());
             wr.write_record(&cells).map_err(io)?;
         }
-        wr.flush().map_err(|e| Error::new(ErrorKind::Io, e.to_string()))?;
+        wr.flush()
+            .map_err(|e| Error::new(ErrorKind::Io, e.to_string()))?;
         Ok(())
     }
 }
@@ -336,7 +377,8 @@ mod tests {
         assert_eq!(e.kind, ErrorKind::TimeNotIncreasing);
         assert_eq!(e.line, Some(3));
 
-        let e = Recording::from_reader("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n".as_bytes()).unwrap_err();
+        let e = Recording::from_reader("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n".as_bytes())
+            .unwrap_err();
         assert_eq!(e.kind, ErrorKind::Empty);
 
         let csv = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,1,2,NaN\n";

@@ -8,8 +8,8 @@
 
 use super::statics::Pose;
 use crate::{Error, ErrorKind, Result};
-use clino_core::sensor::{MatrixModel, TriadCalibration, TriadModel};
 use clino_core::Vec3;
+use clino_core::sensor::{MatrixModel, TriadCalibration, TriadModel};
 use nalgebra::Matrix3;
 use serde::Serialize;
 
@@ -47,16 +47,32 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
             }
         }
     }
-    let missing: Vec<&str> = (0..6).filter(|&k| groups[k].is_empty()).map(|k| NAMES[k]).collect();
+    let missing: Vec<&str> = (0..6)
+        .filter(|&k| groups[k].is_empty())
+        .map(|k| NAMES[k])
+        .collect();
     if !missing.is_empty() {
         return Err(Error::new(
             ErrorKind::Degenerate,
-            format!("the six-position method needs each housing axis up and down; {} poses found, none with {} up", poses.len(), missing.join(", ")),
+            format!(
+                "the six-position method needs each housing axis up and down; {} poses found, none with {} up",
+                poses.len(),
+                missing.join(", ")
+            ),
         ));
     }
     let mean = |k: usize| {
         let v = &groups[k];
-        v.iter().map(|&i| poses.iter().find(|p| p.index == i).map(|p| p.acc()).unwrap_or_default()).fold(Vec3::zeros(), |s, x| s + x) / v.len() as f64
+        v.iter()
+            .map(|&i| {
+                poses
+                    .iter()
+                    .find(|p| p.index == i)
+                    .map(|p| p.acc())
+                    .unwrap_or_default()
+            })
+            .fold(Vec3::zeros(), |s, x| s + x)
+            / v.len() as f64
     };
     let m: Vec<Vec3> = (0..6).map(mean).collect();
     let mut k = Matrix3::zeros();
@@ -64,13 +80,28 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
         k.set_column(i, &((m[2 * i] - m[2 * i + 1]) / (2.0 * g)));
     }
     let u0 = m.iter().fold(Vec3::zeros(), |s, x| s + x) / 6.0;
-    let kinv = k
-        .try_inverse()
-        .ok_or_else(|| Error::new(ErrorKind::Degenerate, "the six positions give a singular scale matrix K"))?;
+    let kinv = k.try_inverse().ok_or_else(|| {
+        Error::new(
+            ErrorKind::Degenerate,
+            "the six positions give a singular scale matrix K",
+        )
+    })?;
     let temps: Vec<f64> = poses.iter().filter_map(|p| p.temp_c).collect();
-    let (lo, hi) = temps.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| (a.0.min(t), a.1.max(t)));
-    let valid = if temps.is_empty() { [f64::NEG_INFINITY, f64::INFINITY] } else { [lo, hi] };
-    let valid = if valid[0].is_finite() { valid } else { [-1e9, 1e9] };
+    let (lo, hi) = temps
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| {
+            (a.0.min(t), a.1.max(t))
+        });
+    let valid = if temps.is_empty() {
+        [f64::NEG_INFINITY, f64::INFINITY]
+    } else {
+        [lo, hi]
+    };
+    let valid = if valid[0].is_finite() {
+        valid
+    } else {
+        [-1e9, 1e9]
+    };
     Ok(SixPosition {
         calibration: TriadCalibration {
             model: TriadModel::Matrix(MatrixModel {
@@ -109,11 +140,24 @@ mod tests {
 
     #[test]
     fn recovers_k_and_offset_exactly() {
-        let k = Matrix3::new(1.02, 0.004, -0.003, -0.002, 0.97, 0.005, 0.006, -0.001, 1.01);
+        let k = Matrix3::new(
+            1.02, 0.004, -0.003, -0.002, 0.97, 0.005, 0.006, -0.001, 1.01,
+        );
         let u0 = Vec3::new(0.08, -0.05, 0.12);
         let g = 9.80665;
-        let dirs = [Vec3::x(), -Vec3::x(), Vec3::y(), -Vec3::y(), Vec3::z(), -Vec3::z()];
-        let poses: Vec<Pose> = dirs.iter().enumerate().map(|(i, d)| pose(i, k * (d * g) + u0)).collect();
+        let dirs = [
+            Vec3::x(),
+            -Vec3::x(),
+            Vec3::y(),
+            -Vec3::y(),
+            Vec3::z(),
+            -Vec3::z(),
+        ];
+        let poses: Vec<Pose> = dirs
+            .iter()
+            .enumerate()
+            .map(|(i, d)| pose(i, k * (d * g) + u0))
+            .collect();
         let s = six_position(&poses, g).unwrap();
         let cal = s.calibration.model;
         for d in dirs {

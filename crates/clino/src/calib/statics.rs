@@ -35,7 +35,13 @@ pub struct StaticOptions {
 
 impl Default for StaticOptions {
     fn default() -> Self {
-        Self { window_s: 0.5, min_duration_s: 1.0, acc_threshold: None, gyr_threshold: None, use_mag: false }
+        Self {
+            window_s: 0.5,
+            min_duration_s: 1.0,
+            acc_threshold: None,
+            gyr_threshold: None,
+            use_mag: false,
+        }
     }
 }
 
@@ -106,7 +112,10 @@ impl StaticReport {
             self.acc_threshold
         );
         for p in &self.poses {
-            let a = p.acc_mean.map(|a| format!("{:9.4} {:9.4} {:9.4}", a[0], a[1], a[2])).unwrap_or_else(|| "-".into());
+            let a = p
+                .acc_mean
+                .map(|a| format!("{:9.4} {:9.4} {:9.4}", a[0], a[1], a[2]))
+                .unwrap_or_else(|| "-".into());
             s += &format!(
                 "{:3} {:9.2} {:6.2} {:5}   {:32} {:7} {}\n",
                 p.index,
@@ -114,8 +123,12 @@ impl StaticReport {
                 p.duration_s,
                 p.n,
                 a,
-                p.temp_c.map(|t| format!("{t:.2}")).unwrap_or_else(|| "-".into()),
-                p.ref_inclination_deg.map(|t| format!("{t:.3}")).unwrap_or_else(|| "-".into())
+                p.temp_c
+                    .map(|t| format!("{t:.2}"))
+                    .unwrap_or_else(|| "-".into()),
+                p.ref_inclination_deg
+                    .map(|t| format!("{t:.3}"))
+                    .unwrap_or_else(|| "-".into())
             );
         }
         s
@@ -155,25 +168,44 @@ fn percentile(v: &[f64], p: f64) -> f64 {
 /// Find the static poses of a recording. Errors when the recording has no
 /// stillness signal, is too short for one window, or holds no usable pose.
 pub fn detect_static(rec: &Recording, opt: &StaticOptions) -> Result<StaticReport> {
-    let main = if opt.use_mag { rec.mag.as_ref() } else { rec.acc.as_ref() };
+    let main = if opt.use_mag {
+        rec.mag.as_ref()
+    } else {
+        rec.acc.as_ref()
+    };
     let main = main.ok_or_else(|| {
-        let c = if opt.use_mag { "mag_x_uT" } else { "acc_x_m_s2" };
-        rec.error(ErrorKind::MissingColumn, "static detection needs this triad").at_column(c)
+        let c = if opt.use_mag {
+            "mag_x_uT"
+        } else {
+            "acc_x_m_s2"
+        };
+        rec.error(
+            ErrorKind::MissingColumn,
+            "static detection needs this triad",
+        )
+        .at_column(c)
     })?;
     let n = rec.len();
     let dur = rec.t_s[n - 1] - rec.t_s[0];
     if n < 3 || dur <= 0.0 {
-        return Err(rec.error(ErrorKind::Degenerate, "the recording is too short for static detection"));
+        return Err(rec.error(
+            ErrorKind::Degenerate,
+            "the recording is too short for static detection",
+        ));
     }
     let dt = dur / (n - 1) as f64;
     let half = ((opt.window_s / dt / 2.0).round() as usize).max(1);
     let sa = window_std(main, half);
     let floor_a = if opt.use_mag { 1e-3 } else { 1e-4 };
-    let thr_a = opt.acc_threshold.unwrap_or_else(|| (4.0 * percentile(&sa, 0.1)).max(floor_a));
+    let thr_a = opt
+        .acc_threshold
+        .unwrap_or_else(|| (4.0 * percentile(&sa, 0.1)).max(floor_a));
     let (sg, thr_g) = match rec.gyr.as_ref() {
         Some(g) => {
             let sg = window_std(g, half);
-            let t = opt.gyr_threshold.unwrap_or_else(|| (4.0 * percentile(&sg, 0.1)).max(1e-5));
+            let t = opt
+                .gyr_threshold
+                .unwrap_or_else(|| (4.0 * percentile(&sg, 0.1)).max(1e-5));
             (Some(sg), Some(t))
         }
         None => (None, None),
@@ -210,10 +242,19 @@ pub fn detect_static(rec: &Recording, opt: &StaticOptions) -> Result<StaticRepor
         let acc_mean = rec.acc.as_ref().map(mean3);
         let acc_std = rec.acc.as_ref().map(|v| {
             let m = Vec3::from(mean3(v));
-            (v[a2..=b2].iter().map(|x| (x - m).norm_squared()).sum::<f64>() / k).sqrt()
+            (v[a2..=b2]
+                .iter()
+                .map(|x| (x - m).norm_squared())
+                .sum::<f64>()
+                / k)
+                .sqrt()
         });
         let refi = rec.ref_inclination_deg.as_ref().and_then(|r| {
-            let vals: Vec<f64> = r[a2..=b2].iter().copied().filter(|x| x.is_finite()).collect();
+            let vals: Vec<f64> = r[a2..=b2]
+                .iter()
+                .copied()
+                .filter(|x| x.is_finite())
+                .collect();
             (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
         });
         poses.push(Pose {
@@ -227,7 +268,10 @@ pub fn detect_static(rec: &Recording, opt: &StaticOptions) -> Result<StaticRepor
             acc_std,
             gyr_mean: rec.gyr.as_ref().map(mean3),
             mag_mean: rec.mag.as_ref().map(mean3),
-            temp_c: rec.temp_c.as_ref().map(|t| t[a2..=b2].iter().sum::<f64>() / k),
+            temp_c: rec
+                .temp_c
+                .as_ref()
+                .map(|t| t[a2..=b2].iter().sum::<f64>() / k),
             ref_inclination_deg: refi,
         });
     }
@@ -241,7 +285,12 @@ pub fn detect_static(rec: &Recording, opt: &StaticOptions) -> Result<StaticRepor
         ));
     }
     let total = poses.iter().map(|p| p.duration_s).sum();
-    Ok(StaticReport { poses, acc_threshold: thr_a, gyr_threshold: thr_g, total_static_s: total })
+    Ok(StaticReport {
+        poses,
+        acc_threshold: thr_a,
+        gyr_threshold: thr_g,
+        total_static_s: total,
+    })
 }
 
 #[cfg(test)]
@@ -253,17 +302,29 @@ mod tests {
         // 3 poses of 2 s separated by 1 s of wobble, 50 Hz, tiny deterministic noise
         let mut s = Vec::new();
         let mut t = 0.0;
-        let ups = [Vec3::new(0.0, 0.0, 9.8), Vec3::new(9.8, 0.0, 0.0), Vec3::new(0.0, -9.8, 0.0)];
+        let ups = [
+            Vec3::new(0.0, 0.0, 9.8),
+            Vec3::new(9.8, 0.0, 0.0),
+            Vec3::new(0.0, -9.8, 0.0),
+        ];
         for (k, u) in ups.iter().enumerate() {
             for i in 0..100 {
                 let e = 1e-3 * ((i * 7 + k) as f64).sin();
-                s.push(ImuSample::new(t, Vec3::new(e, -e, e), u + Vec3::new(e, e, -e)));
+                s.push(ImuSample::new(
+                    t,
+                    Vec3::new(e, -e, e),
+                    u + Vec3::new(e, e, -e),
+                ));
                 t += 0.02;
             }
             if k < 2 {
                 for i in 0..50 {
                     let w = (i as f64 * 0.3).sin();
-                    s.push(ImuSample::new(t, Vec3::new(w, 0.5 * w, 0.0), u * 0.5 + Vec3::new(w, -w, 2.0 * w)));
+                    s.push(ImuSample::new(
+                        t,
+                        Vec3::new(w, 0.5 * w, 0.0),
+                        u * 0.5 + Vec3::new(w, -w, 2.0 * w),
+                    ));
                     t += 0.02;
                 }
             }
@@ -287,10 +348,18 @@ mod tests {
         let s: Vec<_> = (0..500)
             .map(|i| {
                 let w = (i as f64 * 0.5).sin();
-                ImuSample::new(i as f64 * 0.02, Vec3::new(w, w, w), Vec3::new(w, -w, 9.0 + w))
+                ImuSample::new(
+                    i as f64 * 0.02,
+                    Vec3::new(w, w, w),
+                    Vec3::new(w, -w, 9.0 + w),
+                )
             })
             .collect();
-        let opt = StaticOptions { acc_threshold: Some(0.01), gyr_threshold: Some(0.01), ..Default::default() };
+        let opt = StaticOptions {
+            acc_threshold: Some(0.01),
+            gyr_threshold: Some(0.01),
+            ..Default::default()
+        };
         let e = detect_static(&Recording::from_samples(&s, None), &opt).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Degenerate);
         assert!(e.message.contains("no usable static pose"));

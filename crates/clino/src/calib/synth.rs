@@ -19,7 +19,7 @@
 use super::fit::Observation;
 use super::recording::Recording;
 use clino_core::sensor::{MatrixModel, MwdModel};
-use clino_core::{tilt, Attitude, ImuSample, Vec3};
+use clino_core::{Attitude, ImuSample, Vec3, tilt};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -59,7 +59,11 @@ impl Default for SynthOptions {
             accel: poorly_calibrated_accel(),
             gyro: MatrixModel {
                 bias: [0.01, -0.02, 0.015],
-                matrix: [[1.02, 0.003, -0.004], [-0.002, 0.985, 0.006], [0.005, -0.003, 1.01]],
+                matrix: [
+                    [1.02, 0.003, -0.004],
+                    [-0.002, 0.985, 0.006],
+                    [0.005, -0.003, 1.01],
+                ],
             },
             mag: MatrixModel {
                 bias: [12.0, -7.0, 20.0],
@@ -72,7 +76,7 @@ impl Default for SynthOptions {
             move_s: 2.0,
             noise: [0.003, 0.001, 0.05],
             temp_range_c: [25.0, 80.0],
-            temp_period_s: 700.0,
+            temp_period_s: 504.0,
             seed: 7,
         }
     }
@@ -114,6 +118,24 @@ pub fn cube_directions() -> Vec<Vec3> {
         }
     }
     v
+}
+
+/// The pose schedule of the generated calibration recordings: the 14 face and
+/// corner directions of a cube, six times over (84 poses). With the default
+/// timing (4 s still, 2 s moving) the recording lasts 504 s, one period of the
+/// default temperature swing, so every orientation is seen at low, middle and
+/// high temperatures (a temperature model cannot otherwise be separated from
+/// the orientation).
+pub fn calibration_schedule() -> Vec<Attitude> {
+    let dirs: Vec<Vec3> = cube_directions()
+        .into_iter()
+        .filter(|d| d.iter().filter(|c| c.abs() > 1e-9).count() != 2)
+        .collect();
+    let mut ups = Vec::new();
+    for _ in 0..6 {
+        ups.extend(dirs.iter().copied());
+    }
+    attitudes_from_ups(&ups)
 }
 
 /// Attitudes (body → ENU) whose up vector in the body frame is each of `ups`,
@@ -167,7 +189,10 @@ fn raw_matrix(m: &MatrixModel, y: Vec3) -> Vec3 {
 /// Make a continuous recording through `attitudes` (static, move, static, …).
 pub fn recording(opt: &SynthOptions, attitudes: &[Attitude]) -> SynthRecording {
     let mut rng = ChaCha8Rng::seed_from_u64(opt.seed);
-    let n = |s: f64| Normal::new(0.0, s.max(0.0)).unwrap_or_else(|_| Normal::new(0.0, 0.0).expect("σ = 0 is valid"));
+    let n = |s: f64| {
+        Normal::new(0.0, s.max(0.0))
+            .unwrap_or_else(|_| Normal::new(0.0, 0.0).expect("σ = 0 is valid"))
+    };
     let (na, ng, nm) = (n(opt.noise[0]), n(opt.noise[1]), n(opt.noise[2]));
     let dt = 1.0 / opt.rate_hz;
     let mut out = SynthRecording {
@@ -179,16 +204,33 @@ pub fn recording(opt: &SynthOptions, attitudes: &[Attitude]) -> SynthRecording {
         attitude: Vec::new(),
     };
     let mut t = 0.0;
-    let push = |out: &mut SynthRecording, rng: &mut ChaCha8Rng, t: f64, q: Attitude, w: Vec3, still: bool| {
+    let push = |out: &mut SynthRecording,
+                rng: &mut ChaCha8Rng,
+                t: f64,
+                q: Attitude,
+                w: Vec3,
+                still: bool| {
         let f = q.inverse_transform_vector(&Vec3::new(0.0, 0.0, opt.g));
         let h = q.inverse_transform_vector(&opt.field_enu_ut);
         let temp = temperature(opt, t);
-        let noise3 = |rng: &mut ChaCha8Rng, d: &Normal<f64>| Vec3::new(d.sample(rng), d.sample(rng), d.sample(rng));
+        let noise3 = |rng: &mut ChaCha8Rng, d: &Normal<f64>| {
+            Vec3::new(d.sample(rng), d.sample(rng), d.sample(rng))
+        };
         let acc = opt.accel.invert(f, temp).unwrap_or(f) + noise3(rng, &na);
         let gyr = raw_matrix(&opt.gyro, w) + noise3(rng, &ng);
         let mag = raw_matrix(&opt.mag, h) + noise3(rng, &nm);
-        out.samples.push(ImuSample { t_s: t, gyr_rad_s: gyr, acc_m_s2: acc, mag_ut: Some(mag), temp_c: Some(temp) });
-        out.ref_inclination_deg.push(if still { tilt::inclination(&q).to_degrees() } else { f64::NAN });
+        out.samples.push(ImuSample {
+            t_s: t,
+            gyr_rad_s: gyr,
+            acc_m_s2: acc,
+            mag_ut: Some(mag),
+            temp_c: Some(temp),
+        });
+        out.ref_inclination_deg.push(if still {
+            tilt::inclination(&q).to_degrees()
+        } else {
+            f64::NAN
+        });
         out.true_acc.push(f);
         out.true_gyr.push(w);
         out.true_mag.push(h);
@@ -203,12 +245,16 @@ pub fn recording(opt: &SynthOptions, attitudes: &[Attitude]) -> SynthRecording {
         }
         if let Some(q1) = attitudes.get(k + 1) {
             let d = q.inverse() * q1;
-            let (axis, angle) = d.axis_angle().map(|(a, th)| (a.into_inner(), th)).unwrap_or((Vec3::x(), 0.0));
+            let (axis, angle) = d
+                .axis_angle()
+                .map(|(a, th)| (a.into_inner(), th))
+                .unwrap_or((Vec3::x(), 0.0));
             let tm = opt.move_s;
             for i in 0..nmv {
                 let s = i as f64 * dt;
                 let frac = 0.5 * (1.0 - (std::f64::consts::PI * s / tm).cos());
-                let rate = angle * 0.5 * std::f64::consts::PI / tm * (std::f64::consts::PI * s / tm).sin();
+                let rate =
+                    angle * 0.5 * std::f64::consts::PI / tm * (std::f64::consts::PI * s / tm).sin();
                 let qi = q * Attitude::from_scaled_axis(axis * angle * frac);
                 push(&mut out, &mut rng, t, qi, axis * rate, false);
                 t += dt;
@@ -221,17 +267,29 @@ pub fn recording(opt: &SynthOptions, attitudes: &[Attitude]) -> SynthRecording {
 /// Pose means directly (no continuous recording): the raw accelerometer
 /// observation at each attitude and temperature, with the noise of a mean of
 /// `n_avg` samples, and the true specific force. Fast, for fits in tests.
-pub fn accel_pose_observations(opt: &SynthOptions, attitudes: &[Attitude], temps_c: &[f64], n_avg: usize) -> Vec<(Observation, Vec3)> {
+pub fn accel_pose_observations(
+    opt: &SynthOptions,
+    attitudes: &[Attitude],
+    temps_c: &[f64],
+    n_avg: usize,
+) -> Vec<(Observation, Vec3)> {
     let mut rng = ChaCha8Rng::seed_from_u64(opt.seed ^ 0x5eed);
-    let d = Normal::new(0.0, opt.noise[0] / (n_avg.max(1) as f64).sqrt()).unwrap_or_else(|_| Normal::new(0.0, 0.0).expect("valid"));
+    let d = Normal::new(0.0, opt.noise[0] / (n_avg.max(1) as f64).sqrt())
+        .unwrap_or_else(|_| Normal::new(0.0, 0.0).expect("valid"));
     attitudes
         .iter()
         .zip(temps_c)
         .map(|(q, &temp)| {
             let f = q.inverse_transform_vector(&Vec3::new(0.0, 0.0, opt.g));
-            let raw = opt.accel.invert(f, temp).unwrap_or(f) + Vec3::new(d.sample(&mut rng), d.sample(&mut rng), d.sample(&mut rng));
+            let raw = opt.accel.invert(f, temp).unwrap_or(f)
+                + Vec3::new(d.sample(&mut rng), d.sample(&mut rng), d.sample(&mut rng));
             (
-                Observation { raw, temp_c: Some(temp), ref_inclination: Some(tilt::inclination(q)), ref_vector: None },
+                Observation {
+                    raw,
+                    temp_c: Some(temp),
+                    ref_inclination: Some(tilt::inclination(q)),
+                    ref_vector: None,
+                },
                 f,
             )
         })
@@ -256,14 +314,26 @@ mod tests {
 
     #[test]
     fn raw_readings_calibrate_back_to_truth() {
-        let opt = SynthOptions { noise: [0.0; 3], rate_hz: 200.0, ..Default::default() };
+        let opt = SynthOptions {
+            noise: [0.0; 3],
+            rate_hz: 200.0,
+            ..Default::default()
+        };
         let att = attitudes_from_ups(&cube_directions()[..5]);
         let r = recording(&opt, &att);
         for i in (0..r.samples.len()).step_by(7) {
             let s = &r.samples[i];
-            assert_relative_eq!(opt.accel.apply(s.acc_m_s2, s.temp_c), r.true_acc[i], epsilon = 1e-9);
+            assert_relative_eq!(
+                opt.accel.apply(s.acc_m_s2, s.temp_c),
+                r.true_acc[i],
+                epsilon = 1e-9
+            );
             assert_relative_eq!(opt.gyro.apply(s.gyr_rad_s), r.true_gyr[i], epsilon = 1e-9);
-            assert_relative_eq!(opt.mag.apply(s.mag_ut.unwrap()), r.true_mag[i], epsilon = 1e-9);
+            assert_relative_eq!(
+                opt.mag.apply(s.mag_ut.unwrap()),
+                r.true_mag[i],
+                epsilon = 1e-9
+            );
             assert!((25.0..=80.0).contains(&s.temp_c.unwrap()));
         }
         // the gyro's true rate integrates to the attitude change
@@ -273,6 +343,10 @@ mod tests {
             let w = 0.5 * (r.true_gyr[i] + r.true_gyr[i + 1]);
             q *= Attitude::from_scaled_axis(w * dt);
         }
-        assert!(q.angle_to(r.attitude.last().unwrap()) < 1e-4, "{}", q.angle_to(r.attitude.last().unwrap()));
+        assert!(
+            q.angle_to(r.attitude.last().unwrap()) < 1e-4,
+            "{}",
+            q.angle_to(r.attitude.last().unwrap())
+        );
     }
 }

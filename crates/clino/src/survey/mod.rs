@@ -32,9 +32,9 @@ pub mod qc;
 pub mod stations;
 pub mod trajectory;
 
-pub use qc::{roll_tests, RollTest, RollTestLimits};
-pub use stations::{read_stations, StationReading};
-pub use trajectory::{minimum_curvature, TrajectoryPoint};
+pub use qc::{RollTest, RollTestLimits, roll_tests};
+pub use stations::{StationReading, read_stations};
+pub use trajectory::{TrajectoryPoint, minimum_curvature};
 
 use crate::Result;
 use clino_core::Vec3;
@@ -51,7 +51,10 @@ pub struct SurveyOptions {
 
 impl Default for SurveyOptions {
     fn default() -> Self {
-        Self { declination_deg: 0.0, limits: RollTestLimits::default() }
+        Self {
+            declination_deg: 0.0,
+            limits: RollTestLimits::default(),
+        }
     }
 }
 
@@ -82,7 +85,7 @@ pub struct Station {
 
 fn wrap360(x: f64) -> f64 {
     let r = x.rem_euclid(360.0);
-    if r >= 360.0 { 0.0 } else { r }
+    if r >= 360.0 || r == 0.0 { 0.0 } else { r }
 }
 
 /// Inclination, rad, from the specific force in the tool frame (z down the hole).
@@ -119,7 +122,9 @@ pub fn magnetic_toolface(h: &Vec3) -> f64 {
 
 /// Dip, rad: asin(G·H/(G_L·H_L)) with G = −f.
 pub fn dip(f: &Vec3, h: &Vec3) -> f64 {
-    ((-f).dot(h) / (f.norm() * h.norm())).clamp(-1.0, 1.0).asin()
+    ((-f).dot(h) / (f.norm() * h.norm()))
+        .clamp(-1.0, 1.0)
+        .asin()
 }
 
 /// Compute the survey quantities of one reading.
@@ -132,9 +137,14 @@ pub fn station(r: &StationReading, opt: &SurveyOptions) -> Station {
         g_total_g: f.norm() / clino_core::G0,
         h_total_ut: r.mag_ut.map(|h| h.norm()),
         inclination_deg: inclination(&f).to_degrees(),
-        azimuth_deg: r.mag_ut.and_then(|h| azimuth(&f, &h)).map(|a| wrap360(a.to_degrees() + opt.declination_deg)),
+        azimuth_deg: r
+            .mag_ut
+            .and_then(|h| azimuth(&f, &h))
+            .map(|a| wrap360(a.to_degrees() + opt.declination_deg)),
         gravity_toolface_deg: gravity_toolface(&f).map(|t| wrap360(t.to_degrees())),
-        magnetic_toolface_deg: r.mag_ut.map(|h| wrap360(magnetic_toolface(&h).to_degrees())),
+        magnetic_toolface_deg: r
+            .mag_ut
+            .map(|h| wrap360(magnetic_toolface(&h).to_degrees())),
         dip_deg: r.mag_ut.map(|h| dip(&f, &h).to_degrees()),
     }
 }
@@ -155,14 +165,21 @@ pub fn survey(readings: &[StationReading], opt: &SurveyOptions) -> Result<Survey
     let stations: Vec<Station> = readings.iter().map(|r| station(r, opt)).collect();
     let roll = roll_tests(&stations, &opt.limits);
     let trajectory = trajectory::from_stations(&stations)?;
-    Ok(SurveyReport { stations, roll_tests: roll, trajectory })
+    Ok(SurveyReport {
+        stations,
+        roll_tests: roll,
+        trajectory,
+    })
 }
 
 impl SurveyReport {
     /// A readable table.
     pub fn table(&self) -> String {
-        let o = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
-        let mut s = String::from("   md_m    inc_deg    azi_deg  gtf_deg  mtf_deg     G_L_g     H_L_uT  dip_deg\n");
+        let o =
+            |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
+        let mut s = String::from(
+            "   md_m    inc_deg    azi_deg  gtf_deg  mtf_deg     G_L_g     H_L_uT  dip_deg\n",
+        );
         for st in &self.stations {
             s += &format!(
                 "{:7.2} {:10.4} {:>10} {:>8} {:>8} {:9.5} {:>10} {:>8}\n",
@@ -201,7 +218,13 @@ impl SurveyReport {
         for t in &self.trajectory {
             s += &format!(
                 "{:7.2} {:10.4} {:10.4} {:9.3} {:10.3} {:10.3} {:12.4}\n",
-                t.md_m, t.inclination_deg, t.azimuth_deg, t.tvd_m, t.north_m, t.east_m, t.dls_deg_per_30m
+                t.md_m,
+                t.inclination_deg,
+                t.azimuth_deg,
+                t.tvd_m,
+                t.north_m,
+                t.east_m,
+                t.dls_deg_per_30m
             );
         }
         s
@@ -216,7 +239,12 @@ mod tests {
 
     /// Tool readings for known angles, from the attitude C = R_z(A)·R_y(I)·R_z(θ) (NED).
     fn readings(inc_deg: f64, azi_deg: f64, tf_deg: f64, dip_deg: f64) -> (Vec3, Vec3) {
-        let (i, a, t, d) = (inc_deg.to_radians(), azi_deg.to_radians(), tf_deg.to_radians(), dip_deg.to_radians());
+        let (i, a, t, d) = (
+            inc_deg.to_radians(),
+            azi_deg.to_radians(),
+            tf_deg.to_radians(),
+            dip_deg.to_radians(),
+        );
         let c = Rotation3::from_axis_angle(&Vector3::z_axis(), a)
             * Rotation3::from_axis_angle(&Vector3::y_axis(), i)
             * Rotation3::from_axis_angle(&Vector3::z_axis(), t);
@@ -229,7 +257,15 @@ mod tests {
 
     fn st(inc: f64, azi: f64, tf: f64) -> Station {
         let (f, h) = readings(inc, azi, tf, 60.0);
-        station(&StationReading { md_m: 100.0, line: 0, acc_m_s2: f, mag_ut: Some(h) }, &SurveyOptions::default())
+        station(
+            &StationReading {
+                md_m: 100.0,
+                line: 0,
+                acc_m_s2: f,
+                mag_ut: Some(h),
+            },
+            &SurveyOptions::default(),
+        )
     }
 
     fn ang_eq(a: f64, b: f64, tol: f64) {
@@ -249,7 +285,9 @@ mod tests {
     #[test]
     fn closed_forms_for_known_orientations_all_quadrants() {
         for &inc in &[0.5, 10.0, 45.0, 89.0, 90.0, 120.0, 179.0] {
-            for &azi in &[0.0, 30.0, 89.9, 90.0, 135.0, 180.0, 200.0, 270.0, 315.0, 359.5] {
+            for &azi in &[
+                0.0, 30.0, 89.9, 90.0, 135.0, 180.0, 200.0, 270.0, 315.0, 359.5,
+            ] {
                 for &tf in &[0.0, 45.0, 90.0, 180.0, 250.0, 330.0] {
                     let s = st(inc, azi, tf);
                     assert_relative_eq!(s.inclination_deg, inc, epsilon = 1e-9);
@@ -283,10 +321,29 @@ mod tests {
         assert!(s.azimuth_deg.is_none());
         // declination shifts the azimuth
         let (f, h) = readings(30.0, 350.0, 0.0, 60.0);
-        let s = station(&StationReading { md_m: 0.0, line: 0, acc_m_s2: f, mag_ut: Some(h) }, &SurveyOptions { declination_deg: 15.0, ..Default::default() });
+        let s = station(
+            &StationReading {
+                md_m: 0.0,
+                line: 0,
+                acc_m_s2: f,
+                mag_ut: Some(h),
+            },
+            &SurveyOptions {
+                declination_deg: 15.0,
+                ..Default::default()
+            },
+        );
         ang_eq(s.azimuth_deg.unwrap(), 5.0, 1e-9);
         // no magnetometer: inclination and gravity toolface only
-        let s = station(&StationReading { md_m: 0.0, line: 0, acc_m_s2: f, mag_ut: None }, &SurveyOptions::default());
+        let s = station(
+            &StationReading {
+                md_m: 0.0,
+                line: 0,
+                acc_m_s2: f,
+                mag_ut: None,
+            },
+            &SurveyOptions::default(),
+        );
         assert!(s.azimuth_deg.is_none() && s.dip_deg.is_none());
         assert!(s.gravity_toolface_deg.is_some());
     }

@@ -21,7 +21,11 @@ pub struct RollTestLimits {
 
 impl Default for RollTestLimits {
     fn default() -> Self {
-        Self { inclination_deg: 0.1, azimuth_deg: 1.0, g_total_g: 0.003 }
+        Self {
+            inclination_deg: 0.1,
+            azimuth_deg: 1.0,
+            g_total_g: 0.003,
+        }
     }
 }
 
@@ -74,7 +78,12 @@ pub fn roll_tests(stations: &[Station], lim: &RollTestLimits) -> Vec<RollTest> {
         let g = &stations[i..j];
         if g.len() >= 2 {
             let range = |f: &dyn Fn(&Station) -> f64| {
-                let (lo, hi) = g.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |a, x| (a.0.min(x), a.1.max(x)));
+                let (lo, hi) = g
+                    .iter()
+                    .map(f)
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |a, x| {
+                        (a.0.min(x), a.1.max(x))
+                    });
                 hi - lo
             };
             let inc = range(&|s| s.inclination_deg);
@@ -103,10 +112,10 @@ pub fn roll_tests(stations: &[Station], lim: &RollTestLimits) -> Vec<RollTest> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{station, StationReading, SurveyOptions};
+    use super::super::{StationReading, SurveyOptions, station};
     use super::*;
-    use clino_core::sensor::MwdModel;
     use clino_core::Vec3;
+    use clino_core::sensor::MwdModel;
     use nalgebra::{Rotation3, Vector3};
 
     fn roll(model: Option<&MwdModel>) -> Vec<Station> {
@@ -115,12 +124,23 @@ mod tests {
             .map(|k| {
                 let c = Rotation3::from_axis_angle(&Vector3::z_axis(), 60f64.to_radians())
                     * Rotation3::from_axis_angle(&Vector3::y_axis(), 45f64.to_radians())
-                    * Rotation3::from_axis_angle(&Vector3::z_axis(), (30.0 * k as f64).to_radians());
+                    * Rotation3::from_axis_angle(
+                        &Vector3::z_axis(),
+                        (30.0 * k as f64).to_radians(),
+                    );
                 let f = -(c.transpose() * Vec3::new(0.0, 0.0, clino_core::G0));
                 let h = c.transpose() * Vec3::new(24.0, 0.0, 41.0);
                 // a miscalibrated tool reads raw = model⁻¹(f)
                 let raw = model.map(|m| m.invert(f, 30.0).unwrap()).unwrap_or(f);
-                station(&StationReading { md_m: 500.0, line: k + 2, acc_m_s2: raw, mag_ut: Some(h) }, &SurveyOptions::default())
+                station(
+                    &StationReading {
+                        md_m: 500.0,
+                        line: k + 2,
+                        acc_m_s2: raw,
+                        mag_ut: Some(h),
+                    },
+                    &SurveyOptions::default(),
+                )
             })
             .collect()
     }

@@ -33,43 +33,82 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
         .map(|s| s.trim().to_string())
         .collect();
     let col = |n: &str| headers.iter().position(|h| h == n);
-    let need = |n: &str| col(n).ok_or_else(|| Error::new(ErrorKind::MissingColumn, "survey stations need this column").at_line(1).at_column(n));
+    let need = |n: &str| {
+        col(n).ok_or_else(|| {
+            Error::new(ErrorKind::MissingColumn, "survey stations need this column")
+                .at_line(1)
+                .at_column(n)
+        })
+    };
     let md = need("md_m")?;
-    let acc = [need("acc_x_m_s2")?, need("acc_y_m_s2")?, need("acc_z_m_s2")?];
+    let acc = [
+        need("acc_x_m_s2")?,
+        need("acc_y_m_s2")?,
+        need("acc_z_m_s2")?,
+    ];
     let mag = match (col("mag_x_uT"), col("mag_y_uT"), col("mag_z_uT")) {
         (Some(a), Some(b), Some(c)) => Some([a, b, c]),
         (None, None, None) => None,
-        _ => return Err(Error::new(ErrorKind::MissingColumn, "the magnetometer needs all of mag_x_uT, mag_y_uT, mag_z_uT").at_line(1).at_column("mag_x_uT")),
+        _ => {
+            return Err(Error::new(
+                ErrorKind::MissingColumn,
+                "the magnetometer needs all of mag_x_uT, mag_y_uT, mag_z_uT",
+            )
+            .at_line(1)
+            .at_column("mag_x_uT"));
+        }
     };
     let mut out = Vec::new();
     for rec in rdr.records() {
-        let rec = rec.map_err(|e| Error::new(ErrorKind::Parse, format!("malformed row: {e}")).at_line(e.position().map(|p| p.line()).unwrap_or(0)))?;
+        let rec = rec.map_err(|e| {
+            Error::new(ErrorKind::Parse, format!("malformed row: {e}"))
+                .at_line(e.position().map(|p| p.line()).unwrap_or(0))
+        })?;
         let line = rec.position().map(|p| p.line()).unwrap_or(0);
         let num = |i: usize| -> Result<f64> {
             let s = rec.get(i).unwrap_or("").trim();
-            s.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'")).at_line(line).at_column(headers[i].clone())
-            })
+            s.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| {
+                    Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
+                        .at_line(line)
+                        .at_column(headers[i].clone())
+                })
         };
         let f = Vec3::new(num(acc[0])?, num(acc[1])?, num(acc[2])?);
         if f.norm() == 0.0 {
-            return Err(Error::new(ErrorKind::InvalidInput, "zero specific force: no gravity to survey with").at_line(line).at_column("acc_x_m_s2"));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                "zero specific force: no gravity to survey with",
+            )
+            .at_line(line)
+            .at_column("acc_x_m_s2"));
         }
         let h = match mag {
             Some(m) => Some(Vec3::new(num(m[0])?, num(m[1])?, num(m[2])?)),
             None => None,
         };
-        out.push(StationReading { md_m: num(md)?, line, acc_m_s2: f, mag_ut: h });
+        out.push(StationReading {
+            md_m: num(md)?,
+            line,
+            acc_m_s2: f,
+            mag_ut: h,
+        });
     }
     if out.is_empty() {
-        return Err(Error::new(ErrorKind::Empty, "the station file has no data rows"));
+        return Err(Error::new(
+            ErrorKind::Empty,
+            "the station file has no data rows",
+        ));
     }
     Ok(out)
 }
 
 /// Read stations from a CSV file.
 pub fn read_stations(path: &Path) -> Result<Vec<StationReading>> {
-    let f = std::fs::File::open(path).map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
+    let f = std::fs::File::open(path)
+        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
     parse_stations(f).map_err(|e| e.in_file(path))
 }
 
@@ -79,13 +118,20 @@ mod tests {
 
     #[test]
     fn reads_and_reports_errors() {
-        let s = parse_stations("md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n10,0,0,-9.8\n20,1,0,-9.7\n".as_bytes()).unwrap();
+        let s = parse_stations(
+            "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n10,0,0,-9.8\n20,1,0,-9.7\n".as_bytes(),
+        )
+        .unwrap();
         assert_eq!(s.len(), 2);
         assert_eq!(s[1].line, 3);
         assert!(s[0].mag_ut.is_none());
         let e = parse_stations("md_m,acc_x_m_s2,acc_y_m_s2\n".as_bytes()).unwrap_err();
         assert_eq!(e.column.as_deref(), Some("acc_z_m_s2"));
-        let e = parse_stations("md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n10,0,0,-9.8,1,2,x\n".as_bytes()).unwrap_err();
+        let e = parse_stations(
+            "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n10,0,0,-9.8,1,2,x\n"
+                .as_bytes(),
+        )
+        .unwrap_err();
         assert_eq!((e.line, e.column.as_deref()), (Some(2), Some("mag_z_uT")));
         let e = parse_stations("md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n".as_bytes()).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Empty);

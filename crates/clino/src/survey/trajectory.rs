@@ -37,30 +37,61 @@ pub struct TrajectoryPoint {
 
 /// Minimum curvature over (md_m, inclination_deg, azimuth_deg) stations, with
 /// measured depth strictly increasing. Errors name the offending station (0-based).
-pub fn minimum_curvature(md_m: &[f64], inc_deg: &[f64], azi_deg: &[f64]) -> Result<Vec<TrajectoryPoint>> {
+pub fn minimum_curvature(
+    md_m: &[f64],
+    inc_deg: &[f64],
+    azi_deg: &[f64],
+) -> Result<Vec<TrajectoryPoint>> {
     if md_m.len() != inc_deg.len() || md_m.len() != azi_deg.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, "md, inclination and azimuth must have the same length"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "md, inclination and azimuth must have the same length",
+        ));
     }
     let mut out: Vec<TrajectoryPoint> = Vec::with_capacity(md_m.len());
     for k in 0..md_m.len() {
         if !(md_m[k].is_finite() && inc_deg[k].is_finite() && azi_deg[k].is_finite()) {
-            return Err(Error::new(ErrorKind::InvalidInput, format!("station {k}: non-finite value")));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("station {k}: non-finite value"),
+            ));
         }
         let (i2, a2) = (inc_deg[k].to_radians(), azi_deg[k].to_radians());
         let t2 = [i2.sin() * a2.cos(), i2.sin() * a2.sin(), i2.cos()];
         let Some(p) = out.last() else {
-            out.push(TrajectoryPoint { md_m: md_m[0], inclination_deg: inc_deg[0], azimuth_deg: azi_deg[0], tvd_m: 0.0, north_m: 0.0, east_m: 0.0, dogleg_deg: 0.0, dls_deg_per_30m: 0.0 });
+            out.push(TrajectoryPoint {
+                md_m: md_m[0],
+                inclination_deg: inc_deg[0],
+                azimuth_deg: azi_deg[0],
+                tvd_m: 0.0,
+                north_m: 0.0,
+                east_m: 0.0,
+                dogleg_deg: 0.0,
+                dls_deg_per_30m: 0.0,
+            });
             continue;
         };
         let dmd = md_m[k] - p.md_m;
         if dmd <= 0.0 {
-            return Err(Error::new(ErrorKind::InvalidInput, format!("station {k}: measured depth {} m does not increase (previous {} m)", md_m[k], p.md_m)).at_column("md_m"));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!(
+                    "station {k}: measured depth {} m does not increase (previous {} m)",
+                    md_m[k], p.md_m
+                ),
+            )
+            .at_column("md_m"));
         }
         let (i1, a1) = (p.inclination_deg.to_radians(), p.azimuth_deg.to_radians());
         let t1 = [i1.sin() * a1.cos(), i1.sin() * a1.sin(), i1.cos()];
-        let d = ((t2[0] - t1[0]).powi(2) + (t2[1] - t1[1]).powi(2) + (t2[2] - t1[2]).powi(2)).sqrt();
+        let d =
+            ((t2[0] - t1[0]).powi(2) + (t2[1] - t1[1]).powi(2) + (t2[2] - t1[2]).powi(2)).sqrt();
         let beta = 2.0 * (0.5 * d).min(1.0).asin();
-        let rf = if beta > 1e-6 { 2.0 / beta * (0.5 * beta).tan() } else { 1.0 + beta * beta / 12.0 };
+        let rf = if beta > 1e-6 {
+            2.0 / beta * (0.5 * beta).tan()
+        } else {
+            1.0 + beta * beta / 12.0
+        };
         let h = 0.5 * dmd * rf;
         out.push(TrajectoryPoint {
             md_m: md_m[k],
@@ -78,7 +109,9 @@ pub fn minimum_curvature(md_m: &[f64], inc_deg: &[f64], azi_deg: &[f64]) -> Resu
 
 /// Mean of angles, deg (circular).
 fn circular_mean_deg(a: &[f64]) -> f64 {
-    let (s, c) = a.iter().fold((0.0, 0.0), |(s, c), x| (s + x.to_radians().sin(), c + x.to_radians().cos()));
+    let (s, c) = a.iter().fold((0.0, 0.0), |(s, c), x| {
+        (s + x.to_radians().sin(), c + x.to_radians().cos())
+    });
     s.atan2(c).to_degrees().rem_euclid(360.0)
 }
 
@@ -97,14 +130,24 @@ pub fn from_stations(stations: &[Station]) -> Result<Vec<TrajectoryPoint>> {
         if let Some(&prev) = md.last()
             && g[0].md_m <= prev
         {
-            return Err(Error::new(ErrorKind::InvalidInput, format!("measured depth {} m does not increase (previous {prev} m)", g[0].md_m))
-                .at_line(g[0].line)
-                .at_column("md_m"));
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!(
+                    "measured depth {} m does not increase (previous {prev} m)",
+                    g[0].md_m
+                ),
+            )
+            .at_line(g[0].line)
+            .at_column("md_m"));
         }
         md.push(g[0].md_m);
         inc.push(g.iter().map(|s| s.inclination_deg).sum::<f64>() / g.len() as f64);
         let a: Vec<f64> = g.iter().filter_map(|s| s.azimuth_deg).collect();
-        azi.push(if a.is_empty() { 0.0 } else { circular_mean_deg(&a) });
+        azi.push(if a.is_empty() {
+            0.0
+        } else {
+            circular_mean_deg(&a)
+        });
         i = j;
     }
     minimum_curvature(&md, &inc, &azi)
@@ -122,7 +165,11 @@ mod tests {
         assert_relative_eq!(t[2].tvd_m, 250.0, epsilon = 1e-12);
         // straight slant at 30°, azimuth 90° (east)
         let t = minimum_curvature(&[100.0, 200.0], &[30.0, 30.0], &[90.0, 90.0]).unwrap();
-        assert_relative_eq!(t[1].tvd_m, 100.0 * 30f64.to_radians().cos(), epsilon = 1e-12);
+        assert_relative_eq!(
+            t[1].tvd_m,
+            100.0 * 30f64.to_radians().cos(),
+            epsilon = 1e-12
+        );
         assert_relative_eq!(t[1].east_m, 50.0, epsilon = 1e-12);
         assert_relative_eq!(t[1].north_m, 0.0, epsilon = 1e-12);
         assert_eq!(t[1].dls_deg_per_30m, 0.0);
@@ -147,7 +194,12 @@ mod tests {
 
     #[test]
     fn dogleg_matches_textbook_formula_and_md_must_increase() {
-        let (i1, a1, i2, a2) = (20f64.to_radians(), 40f64.to_radians(), 25f64.to_radians(), 55f64.to_radians());
+        let (i1, a1, i2, a2) = (
+            20f64.to_radians(),
+            40f64.to_radians(),
+            25f64.to_radians(),
+            55f64.to_radians(),
+        );
         let textbook = ((i2 - i1).cos() - i1.sin() * i2.sin() * (1.0 - (a2 - a1).cos())).acos();
         let t = minimum_curvature(&[0.0, 30.0], &[20.0, 25.0], &[40.0, 55.0]).unwrap();
         assert_relative_eq!(t[1].dogleg_deg, textbook.to_degrees(), epsilon = 1e-10);
