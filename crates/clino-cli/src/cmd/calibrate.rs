@@ -115,6 +115,18 @@ fn fit(kind: TriadKind, f: Fit) -> Result<()> {
         (TriadKind::Accel, "six") => {
             let report = calib::detect_static(&rec, &statics)?;
             let s = six::six_position(&report.poses, f.g_m_s2)?;
+            if let Some(p) = &f.plot {
+                let e: Vec<_> = six::pose_norm_errors(&report.poses, &s.calibration, f.g_m_s2)
+                    .into_iter()
+                    .map(|(i, b, a)| (i, b / f.g_m_s2 * 1e3, a / f.g_m_s2 * 1e3))
+                    .collect();
+                calib::plot_before_after(
+                    p,
+                    "accel calibration (six-position): magnitude error per pose",
+                    "magnitude error (mg)",
+                    &e,
+                )?;
+            }
             let entry = calib::entry(
                 kind,
                 s.calibration,
@@ -194,6 +206,20 @@ fn fit(kind: TriadKind, f: Fit) -> Result<()> {
                 };
                 let report = calib::detect_static(&rec, &statics)?;
                 let r = gyro::from_rotations(&rec, &report.poses, accel.as_ref())?;
+                if let Some(p) = &f.plot {
+                    let e: Vec<_> = r
+                        .moves
+                        .iter()
+                        .enumerate()
+                        .map(|(k, m)| (k, m.error_before_deg, m.error_after_deg))
+                        .collect();
+                    calib::plot_before_after(
+                        p,
+                        "gyro calibration (rotations between poses): gravity-direction mismatch per move",
+                        "mismatch (deg)",
+                        &e,
+                    )?;
+                }
                 let sigma = r.params.iter().map(|p| (p.name.clone(), p.sigma)).collect();
                 let entry = calib::entry(
                     kind,

@@ -320,3 +320,34 @@ pub fn plot_residuals(path: &std::path::Path, fit: &TriadFit) -> Result<()> {
     }
     Ok(())
 }
+
+/// Plot per-item errors before and after calibration (x: item number): the
+/// six-position method's pose magnitudes, or the gravity-direction mismatch of
+/// the gyro's moves between poses.
+pub fn plot_before_after(
+    path: &std::path::Path,
+    title: &str,
+    y_label: &str,
+    items: &[(usize, f64, f64)],
+) -> Result<()> {
+    use crate::report::{PlotSpec, Series, line_plot};
+    line_plot(
+        path,
+        &PlotSpec {
+            title: title.into(),
+            x_label: "pose / move".into(),
+            y_label: y_label.into(),
+            ..Default::default()
+        },
+        &[
+            Series::markers(
+                "before",
+                items.iter().map(|(i, b, _)| (*i as f64, *b)).collect(),
+            ),
+            Series::markers(
+                "after",
+                items.iter().map(|(i, _, a)| (*i as f64, *a)).collect(),
+            ),
+        ],
+    )
+}

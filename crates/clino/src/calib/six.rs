@@ -116,6 +116,21 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
     })
 }
 
+/// Magnitude error |y| − g of every pose before (raw) and after a calibration:
+/// (pose index, before, after), m/s².
+pub fn pose_norm_errors(poses: &[Pose], cal: &TriadCalibration, g: f64) -> Vec<(usize, f64, f64)> {
+    poses
+        .iter()
+        .map(|p| {
+            (
+                p.index,
+                p.acc().norm() - g,
+                cal.model.apply(p.acc(), p.temp_c).norm() - g,
+            )
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

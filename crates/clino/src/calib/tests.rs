@@ -286,6 +286,10 @@ fn gyro_rate_table_recovers_scale_misalignment_and_bias() {
             assert!((m.matrix[i][j] - opt.gyro.matrix[i][j]).abs() < 1e-4);
         }
     }
+    // the MWD model with all of m free represents any matrix: same answer
+    let f12 = gyro::rate_table(&rec, ModelKind::Mwd12).unwrap();
+    assert_eq!(f12.params.len(), 12);
+    assert!(f12.rms_vector_after.unwrap() < 1e-4, "{}", f12.summary());
     // a table turned only about z: clear error naming the axes
     let only_z: Vec<usize> = (0..rec.len())
         .filter(|&i| {

@@ -303,6 +303,43 @@ mod tests {
     }
 
     #[test]
+    fn json_stations_carry_the_documented_keys() {
+        let (f, h) = readings(30.0, 200.0, 40.0, 60.0);
+        let r = StationReading {
+            md_m: 12.5,
+            line: 2,
+            acc_m_s2: f,
+            mag_ut: Some(h),
+        };
+        let rep = survey(
+            &[r, StationReading { md_m: 40.0, ..r }],
+            &SurveyOptions::default(),
+        )
+        .unwrap();
+        let v = serde_json::to_value(&rep).unwrap();
+        let s0 = &v["stations"][0];
+        assert_eq!(s0["md_m"], 12.5);
+        for k in ["inclination_deg", "azimuth_deg", "gravity_toolface_deg"] {
+            assert!(s0[k].is_f64(), "{k}: {s0}");
+        }
+        assert_eq!(v["trajectory"].as_array().unwrap().len(), 2);
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        #[test]
+        fn any_attitude_round_trips(inc in 0.01f64..179.99, azi in 0.0f64..360.0, tf in 0.0f64..360.0, d in -80.0f64..80.0) {
+            let (f, h) = readings(inc, azi, tf, d);
+            let s = station(&StationReading { md_m: 0.0, line: 0, acc_m_s2: f, mag_ut: Some(h) }, &SurveyOptions::default());
+            proptest::prop_assert!((s.inclination_deg - inc).abs() < 1e-8);
+            let da = (s.azimuth_deg.unwrap() - azi + 180.0).rem_euclid(360.0) - 180.0;
+            let dt = (s.gravity_toolface_deg.unwrap() - tf + 180.0).rem_euclid(360.0) - 180.0;
+            proptest::prop_assert!(da.abs() < 1e-6 && dt.abs() < 1e-6, "azi {} tf {}", da, dt);
+            proptest::prop_assert!((s.dip_deg.unwrap() - d).abs() < 1e-8);
+        }
+    }
+
+    #[test]
     fn vertical_hole_edge_cases() {
         // exactly vertical: azimuth and gravity toolface undefined, magnetic toolface = A + θ
         for &(azi, tf) in &[(0.0, 0.0), (40.0, 30.0), (200.0, 300.0)] {
