@@ -12,6 +12,12 @@ pub struct Args {
     /// Magnetic declination added to the azimuth, deg.
     #[arg(long, default_value_t = 0.0)]
     declination_deg: f64,
+    /// Calibrate the readings first with this calibration file (accelerometer and magnetometer).
+    #[arg(long)]
+    calibration: Option<PathBuf>,
+    /// Apply the calibration outside its valid temperature range.
+    #[arg(long)]
+    extrapolate: bool,
     /// Print the result as JSON (stations, roll_tests, trajectory).
     #[arg(long)]
     json: bool,
@@ -19,7 +25,12 @@ pub struct Args {
 
 /// Run `clino survey`.
 pub fn run(a: Args) -> Result<()> {
-    let readings = survey::read_stations(&a.stations)?;
+    let mut readings = survey::read_stations(&a.stations)?;
+    if let Some(p) = &a.calibration {
+        let mut cal = clino::calib::CalibrationFile::load(p)?;
+        cal.extrapolate = a.extrapolate;
+        survey::calibrate_readings(&mut readings, &cal).map_err(|e| e.in_file(&a.stations))?;
+    }
     let report = survey::survey(
         &readings,
         &SurveyOptions {

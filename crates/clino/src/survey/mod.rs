@@ -33,7 +33,7 @@ pub mod stations;
 pub mod trajectory;
 
 pub use qc::{RollTest, RollTestLimits, roll_tests};
-pub use stations::{StationReading, read_stations};
+pub use stations::{StationReading, calibrate_readings, read_stations};
 pub use trajectory::{TrajectoryPoint, minimum_curvature};
 
 use crate::Result;
@@ -263,6 +263,7 @@ mod tests {
                 line: 0,
                 acc_m_s2: f,
                 mag_ut: Some(h),
+                temp_c: None,
             },
             &SurveyOptions::default(),
         )
@@ -310,6 +311,7 @@ mod tests {
             line: 2,
             acc_m_s2: f,
             mag_ut: Some(h),
+            temp_c: None,
         };
         let rep = survey(
             &[r, StationReading { md_m: 40.0, ..r }],
@@ -330,7 +332,7 @@ mod tests {
         #[test]
         fn any_attitude_round_trips(inc in 0.01f64..179.99, azi in 0.0f64..360.0, tf in 0.0f64..360.0, d in -80.0f64..80.0) {
             let (f, h) = readings(inc, azi, tf, d);
-            let s = station(&StationReading { md_m: 0.0, line: 0, acc_m_s2: f, mag_ut: Some(h) }, &SurveyOptions::default());
+            let s = station(&StationReading { md_m: 0.0, line: 0, acc_m_s2: f, mag_ut: Some(h), temp_c: None }, &SurveyOptions::default());
             proptest::prop_assert!((s.inclination_deg - inc).abs() < 1e-8);
             let da = (s.azimuth_deg.unwrap() - azi + 180.0).rem_euclid(360.0) - 180.0;
             let dt = (s.gravity_toolface_deg.unwrap() - tf + 180.0).rem_euclid(360.0) - 180.0;
@@ -364,6 +366,7 @@ mod tests {
                 line: 0,
                 acc_m_s2: f,
                 mag_ut: Some(h),
+                temp_c: None,
             },
             &SurveyOptions {
                 declination_deg: 15.0,
@@ -378,6 +381,7 @@ mod tests {
                 line: 0,
                 acc_m_s2: f,
                 mag_ut: None,
+                temp_c: None,
             },
             &SurveyOptions::default(),
         );

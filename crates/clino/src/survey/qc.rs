@@ -138,6 +138,7 @@ mod tests {
                         line: k + 2,
                         acc_m_s2: raw,
                         mag_ut: Some(h),
+                        temp_c: None,
                     },
                     &SurveyOptions::default(),
                 )
@@ -164,5 +165,64 @@ mod tests {
         assert!((circular_range_deg(&[359.6, 0.2, 359.9]) - 0.6).abs() < 1e-9);
         assert!((circular_range_deg(&[10.0, 20.0]) - 10.0).abs() < 1e-12);
         assert_eq!(circular_range_deg(&[5.0]), 0.0);
+    }
+}
+
+#[cfg(test)]
+mod calibrated_roll_test {
+    use super::super::{StationReading, SurveyOptions, calibrate_readings, survey};
+    use crate::calib::{self, CalibrationFile, fit, synth};
+    use clino_core::Vec3;
+    use nalgebra::{Rotation3, Vector3};
+
+    #[test]
+    fn calibration_turns_a_failing_roll_test_into_a_pass() {
+        // calibrate the simulated poorly calibrated triad (30 parameters, 25–80 °C)
+        let opt = synth::SynthOptions::default();
+        let mut ups = synth::cube_directions();
+        ups.extend(synth::cube_directions());
+        ups.extend(synth::cube_directions());
+        let att = synth::attitudes_from_ups(&ups);
+        let temps = synth::spread_temperatures(opt.temp_range_c, att.len());
+        let obs: Vec<_> = synth::accel_pose_observations(&opt, &att, &temps, 100)
+            .into_iter()
+            .map(|(o, _)| o)
+            .collect();
+        let f = fit::fit_triad(
+            &obs,
+            &fit::FitOptions {
+                use_ref_inclination: false,
+                ..fit::FitOptions::accel(fit::ModelKind::Mwd30)
+            },
+        )
+        .unwrap();
+        let mut file = CalibrationFile::default();
+        file.set(f.kind, calib::entry_from_fit(&f, "test"));
+        // a roll test at 45° inclination, 70 °C, read by that triad
+        let mut readings: Vec<StationReading> = (0..12)
+            .map(|k| {
+                let c = Rotation3::from_axis_angle(&Vector3::z_axis(), 1.0)
+                    * Rotation3::from_axis_angle(&Vector3::y_axis(), 45f64.to_radians())
+                    * Rotation3::from_axis_angle(
+                        &Vector3::z_axis(),
+                        (30.0 * k as f64).to_radians(),
+                    );
+                let truth = -(c.transpose() * Vec3::new(0.0, 0.0, clino_core::G0));
+                let h = c.transpose() * Vec3::new(24.0, 0.0, 41.0);
+                StationReading {
+                    md_m: 800.0,
+                    line: k + 2,
+                    acc_m_s2: opt.accel.invert(truth, 70.0).unwrap(),
+                    mag_ut: Some(h),
+                    temp_c: Some(70.0),
+                }
+            })
+            .collect();
+        let raw = survey(&readings, &SurveyOptions::default()).unwrap();
+        assert!(!raw.roll_tests[0].pass, "{:?}", raw.roll_tests);
+        calibrate_readings(&mut readings, &file).unwrap();
+        let cal = survey(&readings, &SurveyOptions::default()).unwrap();
+        let r = &cal.roll_tests[0];
+        assert!(r.pass && r.inclination_range_deg < 0.01, "{r:?}");
     }
 }

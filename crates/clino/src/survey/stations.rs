@@ -3,8 +3,9 @@
 //! Columns: `md_m` (measured depth, m), `acc_x_m_s2`, `acc_y_m_s2`,
 //! `acc_z_m_s2` (specific force in the tool frame, z down the hole: a vertical
 //! tool at rest reads (0, 0, −g)), and optionally `mag_x_uT`, `mag_y_uT`,
-//! `mag_z_uT` (field in the tool frame). Rows with the same `md_m` are a roll
-//! test. Errors name file, line and column.
+//! `mag_z_uT` (field in the tool frame) and `temp_c` (°C, for temperature
+//! calibration models). Rows with the same `md_m` are a roll test. Errors name
+//! file, line and column.
 
 use crate::{Error, ErrorKind, Result};
 use clino_core::Vec3;
@@ -21,6 +22,8 @@ pub struct StationReading {
     pub acc_m_s2: Vec3,
     /// Field in the tool frame, µT.
     pub mag_ut: Option<Vec3>,
+    /// Tool temperature, °C.
+    pub temp_c: Option<f64>,
 }
 
 /// Read stations from CSV text.
@@ -58,6 +61,7 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
             .at_column("mag_x_uT"));
         }
     };
+    let temp = col("temp_c");
     let mut out = Vec::new();
     for rec in rdr.records() {
         let rec = rec.map_err(|e| {
@@ -89,11 +93,16 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
             Some(m) => Some(Vec3::new(num(m[0])?, num(m[1])?, num(m[2])?)),
             None => None,
         };
+        let temp_c = match temp {
+            Some(i) => Some(num(i)?),
+            None => None,
+        };
         out.push(StationReading {
             md_m: num(md)?,
             line,
             acc_m_s2: f,
             mag_ut: h,
+            temp_c,
         });
     }
     if out.is_empty() {
@@ -110,6 +119,23 @@ pub fn read_stations(path: &Path) -> Result<Vec<StationReading>> {
     let f = std::fs::File::open(path)
         .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
     parse_stations(f).map_err(|e| e.in_file(path))
+}
+
+/// Calibrate raw station readings with a calibration file (its accelerometer and
+/// magnetometer models, at each station's temperature); errors name the line.
+pub fn calibrate_readings(
+    readings: &mut [StationReading],
+    cal: &crate::calib::CalibrationFile,
+) -> Result<()> {
+    for r in readings.iter_mut() {
+        let mut s = clino_core::ImuSample::new(0.0, Vec3::zeros(), r.acc_m_s2);
+        s.mag_ut = r.mag_ut;
+        s.temp_c = r.temp_c;
+        let out = cal.apply(&s).map_err(|e| e.at_line(r.line))?;
+        r.acc_m_s2 = out.acc_m_s2;
+        r.mag_ut = out.mag_ut;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
