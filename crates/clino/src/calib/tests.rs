@@ -49,8 +49,19 @@ fn mwd30_recovers_truth_within_its_uncertainty_and_meets_the_accuracy() {
         );
     }
     assert!(worst > 0.1, "uncertainties implausibly large");
+    let within2 = fit
+        .params
+        .iter()
+        .filter(|p| ((p.value - truth_value(&truth, &p.name)) / p.sigma).abs() < 2.0)
+        .count();
+    eprintln!(
+        "mwd30 (27 params): worst |estimate - truth| = {worst:.2} sigma; {within2}/27 within 2 sigma"
+    );
     let val = validation_set(&opt, 300, 5);
     let (tilt, g) = max_errors(&fit.calibration, &val);
+    eprintln!(
+        "mwd30 on 78 pose means: max tilt error {tilt:.4}°, max |G| error {g:.3} mg over 300 check poses 25–80 °C"
+    );
     assert!(tilt <= 0.01, "tilt error {tilt}°");
     assert!(g <= 0.5, "|G| error {g} mg");
     // the 12-parameter fit over the same poses cannot follow the drift
@@ -63,6 +74,7 @@ fn mwd30_recovers_truth_within_its_uncertainty_and_meets_the_accuracy() {
     )
     .unwrap();
     let (t12, g12) = max_errors(&f12.calibration, &val);
+    eprintln!("mwd12 on the same poses: max tilt error {t12:.4}°, max |G| error {g12:.3} mg");
     assert!(
         g12 > 2.0 && t12 > 0.01,
         "12-parameter fit should leave temperature error: {t12}° {g12} mg"
@@ -89,6 +101,9 @@ fn mwd30_recovers_truth_within_its_uncertainty_and_meets_the_accuracy() {
     let far: Vec<_> = val.iter().filter(|v| v.1 > 70.0).cloned().collect();
     let (t_near, g_near) = max_errors(&f12n.calibration, &near);
     let (t_far, g_far) = max_errors(&f12n.calibration, &far);
+    eprintln!(
+        "mwd12 fitted at 29–31 °C: within 3 °C of 30 °C {t_near:.4}° / {g_near:.3} mg, above 70 °C {t_far:.4}° / {g_far:.3} mg"
+    );
     assert!(
         g_near < 1.0 && g_far > 5.0 * g_near,
         "temperature error not visible: near {g_near} far {g_far} mg"
@@ -203,6 +218,12 @@ fn full_pipeline_from_a_continuous_recording() {
         panic!()
     };
     let est = nalgebra::Matrix3::from_fn(|i, j| m.matrix[i][j]);
+    eprintln!(
+        "gyro from rotations: max |M - truth| = {:.2e}, rms mismatch {:.4}° -> {:.4}°",
+        (est - truth).abs().max(),
+        gy.rms_before_deg,
+        gy.rms_after_deg
+    );
     assert!((est - truth).abs().max() < 2e-3, "{est} vs {truth}");
     assert!((Vec3::from(gy.bias) - Vec3::from(opt.gyro.bias)).norm() < 1e-3);
     assert!(
