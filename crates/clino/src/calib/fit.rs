@@ -1011,7 +1011,7 @@ fn initial_state(obs: &[Observation], opt: &FitOptions, vector: bool) -> State {
             let mut md = MwdModel::identity(opt.tc_c);
             for i in 0..3 {
                 md.scale[i][0] = 1.0 / s0;
-                md.bias[i][0] = -b0[i] * s0;
+                md.bias[i][0] = b0[i] * s0;
             }
             State::Mwd(md)
         }

@@ -265,6 +265,9 @@ fn magnetometer_ellipsoid_fit_removes_hard_and_soft_iron() {
     }
     assert!(fit.rms_norm_after.unwrap() < 0.1, "{}", fit.summary());
     assert!(fit.rms_norm_before.unwrap() > 5.0);
+    // the MWD form fits the same ellipsoid (its misalignment in the lower-triangular convention)
+    let f12 = calibrate_mag(&rec, ModelKind::Mwd12, Some(field)).unwrap();
+    assert!(f12.rms_norm_after.unwrap() < 0.1, "{}", f12.summary());
 }
 
 #[test]
