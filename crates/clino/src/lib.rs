@@ -6,6 +6,8 @@
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
+//! * [`calib`] — estimating sensor calibrations (static poses, multi-position fits, calibration files);
+//! * [`survey`] — drilling surveys: inclination, azimuth, toolface, roll-test QC, minimum curvature;
 //! * [`sim`] — truth trajectories and simulated sensors.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation

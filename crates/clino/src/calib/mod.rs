@@ -16,7 +16,7 @@
 //! * [`six`] — the six-position method for fixtures (A = K⁻¹(U_a − U_a0));
 //! * [`gyro`] — gyro calibration from rate-table runs and from rotations
 //!   between static poses;
-//! * [`file`] — calibration files (TOML) and applying them to samples
+//! * [`file`](mod@file) — calibration files (TOML) and applying them to samples
 //!   ([`CalibrationFile::load`], [`CalibrationFile::apply`],
 //!   [`CalibrationFile::apply_iter`]);
 //! * [`recording`] — the CSV recordings these read;

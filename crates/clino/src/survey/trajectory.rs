@@ -7,7 +7,7 @@
 //! for small angles), the ratio factor RF = (2/β)·tan(β/2) (→ 1 as β → 0), and
 //! ΔN = ΔMD/2·(t₁ + t₂)_N·RF, ΔE likewise, ΔTVD = ΔMD/2·(cos I₁ + cos I₂)·RF.
 //! Dogleg severity is β per 30 m. (SPE/ISCWSA standard practice; Bourgoyne et
-//! al., *Applied Drilling Engineering*, the MWD paper's reference [1].)
+//! al., *Applied Drilling Engineering*, the MWD paper's reference 1.)
 //! The tie-on is the first station: TVD, north and east are 0 there.
 
 use super::Station;
