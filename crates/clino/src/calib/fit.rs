@@ -955,12 +955,7 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         let v: Vec<f64> = res.iter().filter_map(f).collect();
         (!v.is_empty()).then(|| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt())
     };
-    // valid over the poses' temperatures widened by 1 °C (a cubic is harmless that far)
-    let valid = if temps.is_empty() {
-        [opt.tc_c - 1.0, opt.tc_c + 1.0]
-    } else {
-        [tmin - 1.0, tmax + 1.0]
-    };
+    let valid = super::valid_range(&temps);
     Ok(TriadFit {
         kind: opt.kind,
         model: opt.model,

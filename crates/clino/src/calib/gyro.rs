@@ -309,14 +309,7 @@ pub fn from_rotations(
         (moves.iter().map(|m| f(m).powi(2)).sum::<f64>() / moves.len() as f64).sqrt()
     };
     let temps: Vec<f64> = poses.iter().filter_map(|p| p.temp_c).collect();
-    let valid = if temps.is_empty() {
-        [-1e9, 1e9]
-    } else {
-        [
-            temps.iter().cloned().fold(f64::INFINITY, f64::min),
-            temps.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
-        ]
-    };
+    let valid = super::valid_range(&temps);
     Ok(RotationFit {
         calibration: TriadCalibration {
             model: TriadModel::Matrix(MatrixModel {

@@ -351,3 +351,19 @@ pub fn plot_before_after(
         ],
     )
 }
+
+/// Temperature range a calibration is valid for: the calibration data's
+/// temperatures widened by 1 °C (a cubic is harmless that far), or
+/// [−1e9, 1e9] °C when the data carried no temperature.
+pub fn valid_range(temps: &[f64]) -> [f64; 2] {
+    let (lo, hi) = temps
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| {
+            (a.0.min(t), a.1.max(t))
+        });
+    if lo.is_finite() && hi.is_finite() {
+        [lo - 1.0, hi + 1.0]
+    } else {
+        [-1e9, 1e9]
+    }
+}

@@ -87,21 +87,7 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
         )
     })?;
     let temps: Vec<f64> = poses.iter().filter_map(|p| p.temp_c).collect();
-    let (lo, hi) = temps
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &t| {
-            (a.0.min(t), a.1.max(t))
-        });
-    let valid = if temps.is_empty() {
-        [f64::NEG_INFINITY, f64::INFINITY]
-    } else {
-        [lo, hi]
-    };
-    let valid = if valid[0].is_finite() {
-        valid
-    } else {
-        [-1e9, 1e9]
-    };
+    let valid = super::valid_range(&temps);
     Ok(SixPosition {
         calibration: TriadCalibration {
             model: TriadModel::Matrix(MatrixModel {
