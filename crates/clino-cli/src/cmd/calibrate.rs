@@ -55,7 +55,7 @@ struct Fit {
     /// Shortest static pose, s.
     #[arg(long, default_value_t = 1.0)]
     min_pose_s: f64,
-    /// Accelerometer calibration to apply first (gyro from rotations).
+    /// Accelerometer calibration to apply first (gyro from rotations; default: the accel entry of the file given with --update).
     #[arg(long)]
     accel_calibration: Option<PathBuf>,
 }
@@ -200,10 +200,17 @@ fn fit(kind: TriadKind, f: Fit) -> Result<()> {
                     model == ModelKind::Matrix,
                     "without a rate table (ref_gyr_*_rad_s columns) the gyro is calibrated from rotations between static poses, with the matrix model only (--model matrix)"
                 );
+                // gravity directions come from the accelerometer: calibrated by --accel-calibration,
+                // else by the accel entry of the file being updated, else raw (said on stderr)
                 let accel = match &f.accel_calibration {
                     Some(p) => CalibrationFile::load(p)?.accel.map(|e| e.calibration()),
-                    None => None,
+                    None => file.accel.as_ref().map(|e| e.calibration()),
                 };
+                if accel.is_none() {
+                    eprintln!(
+                        "clino: note: gravity directions from the uncalibrated accelerometer; calibrate it first (--accel-calibration CAL.toml) for a better gyro fit"
+                    );
+                }
                 let report = calib::detect_static(&rec, &statics)?;
                 let r = gyro::from_rotations(&rec, &report.poses, accel.as_ref())?;
                 if let Some(p) = &f.plot {
