@@ -809,7 +809,20 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
 
     // coverage and count
     if !vector {
-        let miss = missing_half_axes(obs);
+        // a magnetometer's hard iron can exceed the field: judge directions about the centre
+        let miss = if opt.kind == TriadKind::Mag {
+            let c = obs.iter().fold(Vec3::zeros(), |s, o| s + o.raw) / obs.len() as f64;
+            missing_half_axes(
+                &obs.iter()
+                    .map(|o| Observation {
+                        raw: o.raw - c,
+                        ..*o
+                    })
+                    .collect::<Vec<_>>(),
+            )
+        } else {
+            missing_half_axes(obs)
+        };
         if !miss.is_empty() {
             return Err(Error::new(
                 ErrorKind::Degenerate,
