@@ -24,6 +24,10 @@ enum Command {
     Allan(cmd::allan::Args),
     /// Stewart-platform kinematics (inverse and forward) of single poses.
     Stewart(cmd::stewart::Args),
+    /// Calibrate accelerometer, gyro or magnetometer triads from recordings, or apply a calibration.
+    Calibrate(cmd::calibrate::Args),
+    /// Drilling survey: inclination, azimuth, toolface, roll-test QC, minimum-curvature trajectory.
+    Survey(cmd::survey::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -34,6 +38,8 @@ fn main() -> std::process::ExitCode {
         Command::Testbench(a) => cmd::testbench::run(a),
         Command::Allan(a) => cmd::allan::run(a),
         Command::Stewart(a) => cmd::stewart::run(a),
+        Command::Calibrate(a) => cmd::calibrate::run(a),
+        Command::Survey(a) => cmd::survey::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -10,6 +10,8 @@
 //! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
 //!   cross-coupling, Allan deviation);
 //! * [`smooth`] — offline (forward–backward) tilt for whole recordings;
+//! * [`calib`] — estimating sensor calibrations (static poses, multi-position fits, calibration files);
+//! * [`survey`] — drilling surveys: inclination, azimuth, toolface, roll-test QC, minimum curvature;
 //! * [`redundancy`] — nine-chain six-axis accelerometer with a gyro: decoupling, fault diagnosis, restoration.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
@@ -20,10 +22,12 @@
 pub use clino_core as core;
 
 pub mod bench;
+pub mod calib;
 pub mod error;
 pub mod redundancy;
 pub mod report;
 pub mod sim;
 pub mod smooth;
+pub mod survey;
 
 pub use error::{Error, ErrorKind, Result};

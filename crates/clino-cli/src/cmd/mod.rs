@@ -4,3 +4,5 @@ pub mod demo;
 pub mod redundancy;
 pub mod stewart;
 pub mod testbench;
+pub mod calibrate;
+pub mod survey;
