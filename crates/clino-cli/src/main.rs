@@ -20,6 +20,18 @@ enum Command {
     Fuse(cmd::fuse::Args),
     /// Score filters against a reference orientation: inclination RMSE in degrees.
     Eval(cmd::eval::Args),
+    /// Nine-chain six-axis accelerometer with a gyro: restorable sets, fault simulation, diagnosis.
+    Redundancy(cmd::redundancy::Args),
+    /// Dynamic test bench: conical response, orbit cross-coupling, static test, lab analysis.
+    Testbench(cmd::testbench::Args),
+    /// Allan deviation and IEEE 952 noise terms of a static recording.
+    Allan(cmd::allan::Args),
+    /// Stewart-platform kinematics (inverse and forward) of single poses.
+    Stewart(cmd::stewart::Args),
+    /// Calibrate accelerometer, gyro or magnetometer triads from recordings, or apply a calibration.
+    Calibrate(cmd::calibrate::Args),
+    /// Drilling survey: inclination, azimuth, toolface, roll-test QC, minimum-curvature trajectory.
+    Survey(cmd::survey::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -28,6 +40,12 @@ fn main() -> std::process::ExitCode {
         Command::Demo(a) => cmd::demo::run(a),
         Command::Fuse(a) => cmd::fuse::run(a),
         Command::Eval(a) => cmd::eval::run(a),
+        Command::Redundancy(a) => cmd::redundancy::run(a),
+        Command::Testbench(a) => cmd::testbench::run(a),
+        Command::Allan(a) => cmd::allan::run(a),
+        Command::Stewart(a) => cmd::stewart::run(a),
+        Command::Calibrate(a) => cmd::calibrate::run(a),
+        Command::Survey(a) => cmd::survey::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

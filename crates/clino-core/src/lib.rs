@@ -55,6 +55,7 @@ pub mod compensate;
 pub mod filter;
 pub(crate) mod math;
 pub mod sample;
+pub mod sensor;
 pub mod tilt;
 
 pub use filter::{AttitudeFilter, Step};

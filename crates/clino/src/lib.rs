@@ -11,8 +11,11 @@
 //! * [`report`] — plots (SVG/PNG);
 //! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
 //! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
-//!   cross-coupling, Allan deviation).
-//! * [`smooth`] — offline (forward–backward) tilt for whole recordings.
+//!   cross-coupling, Allan deviation);
+//! * [`smooth`] — offline (forward–backward) tilt for whole recordings;
+//! * [`calib`] — estimating sensor calibrations (static poses, multi-position fits, calibration files);
+//! * [`survey`] — drilling surveys: inclination, azimuth, toolface, roll-test QC, minimum curvature;
+//! * [`redundancy`] — nine-chain six-axis accelerometer with a gyro: decoupling, fault diagnosis, restoration.
 //!
 //! Conventions are those of [`clino_core`]: SI units inside, ENU navigation
 //! frame, Hamilton scalar-first quaternions rotating body to navigation,
@@ -22,13 +25,16 @@
 pub use clino_core as core;
 
 pub mod bench;
+pub mod calib;
 pub mod demo;
 pub mod error;
 pub mod eval;
 pub mod fusion;
 pub mod io;
+pub mod redundancy;
 pub mod report;
 pub mod sim;
 pub mod smooth;
+pub mod survey;
 
 pub use error::{Error, ErrorKind, Result};

@@ -11,14 +11,20 @@
 //!    the end;
 //! 2. a backward pass runs on the time-reversed recording (rates negated: the
 //!    reversed body turns the other way; sample k's interval is the one ending
-//!    at sample k + 1), starting from that bias, and learns the bias at the start;
-//! 3. a second forward pass starts from the bias at the start;
-//! 4. at every sample the tilt is the mean of the two up vectors (passes 2 and
-//!    3, equal weights — their errors are alike and nearly independent); the
-//!    heading is the forward pass's.
+//!    at sample k + 1), starting from the end state, and learns the bias at the start;
+//! 3. a second forward pass starts from the start state;
+//! 4. two more passes, forwards and backwards, run with the bias imposed as the
+//!    mean of the backward and second forward estimates at each sample (a
+//!    smoothed bias trajectory), each pass starting where the previous ended;
+//! 5. at every sample the tilt is the mean of the two up vectors of those passes
+//!    (equal weights — their errors are alike and nearly independent); the
+//!    heading is the forward pass's;
+//! 6. a whole-record refinement uses the mount's bounded velocity and
+//!    position: [`refine_bounded_motion`], a Kalman/Rauch–Tung–Striebel
+//!    smoother on the remaining tilt error (skip it for travelling mounts).
 //!
-//! Lever-arm compensation, when asked for, runs inside each pass (the
-//! tangential and centripetal terms are even under time reversal).
+//! Lever-arm compensation, when asked for, is done once before the passes,
+//! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
 //!
 //! Memory: the recording and one attitude per sample are held (≈ 100 bytes a
 //! sample), unlike the streaming real-time path.
@@ -27,46 +33,157 @@ use clino_core::compensate::Compensated;
 use clino_core::filter::{Dynamic, DynamicParams};
 use clino_core::tilt::up_in_body;
 use clino_core::{Attitude, AttitudeFilter, Vec3};
+#[allow(unused_imports)]
+use clino_core::filter::DynamicParams as _;
 use nalgebra::UnitQuaternion;
 
 /// Options of the offline smoother.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct SmoothOptions {
     /// Parameters of the dynamic filter used in every pass.
     pub params: DynamicParams,
     /// Lever arm of the sensor from the rotation axis, m (body frame).
     pub lever_arm_m: Option<Vec3>,
+    /// The final whole-record refinement ([`refine_bounded_motion`]); `None` skips it
+    /// (for mounts that travel, e.g. vehicles).
+    pub refine: Option<BoundedMotion>,
 }
 
-fn make(opts: &SmoothOptions, bias: Option<Vec3>) -> Box<dyn AttitudeFilter> {
-    let mut f = Dynamic::new(opts.params);
-    if let Some(b) = bias {
-        f.set_gyro_bias(b);
-    }
-    match opts.lever_arm_m {
-        Some(p) => Box::new(Compensated::new(f, p)),
-        None => Box::new(f),
+impl Default for SmoothOptions {
+    fn default() -> Self {
+        Self {
+            params: DynamicParams::default(),
+            lever_arm_m: None,
+            refine: Some(BoundedMotion::default()),
+        }
     }
 }
 
-/// Run one pass; returns the attitude after each sample.
+/// What the offline refinement assumes about the mount's motion: it works in
+/// place (a hand, a machine arm, a test platform, an excavator or crane that
+/// does not travel), so over the record its horizontal velocity and its
+/// displacement from where it started stay within about these sizes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundedMotion {
+    /// Typical horizontal speed, m/s. Default 1 m/s.
+    pub speed_m_s: f64,
+    /// Typical horizontal excursion from the start, m. Default 1 m.
+    pub range_m: f64,
+    /// How far the smoothed tilt may still be wrong, rad (1σ). Default 0.5°.
+    pub tilt_sigma_rad: f64,
+    /// Correlation time of that tilt error, s. Default 10 s.
+    pub tilt_tau_s: f64,
+    /// Rate at which the velocity and position bounds are imposed, Hz. Default 10 Hz
+    /// (about the inverse correlation time of hand and machine motion).
+    pub constraint_rate_hz: f64,
+}
+
+impl Default for BoundedMotion {
+    fn default() -> Self {
+        Self {
+            speed_m_s: 1.0,
+            range_m: 1.0,
+            tilt_sigma_rad: 0.5f64.to_radians(),
+            tilt_tau_s: 10.0,
+            constraint_rate_hz: 10.0,
+        }
+    }
+}
+
+type Runner = Compensated<Dynamic>;
+
+fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Runner {
+    let mut params = opts.params;
+    params.learn_bias = learn;
+    let mut f = Dynamic::new(params);
+    if let Some((q, b)) = start {
+        f.resume(q, b);
+    }
+    // lever-arm compensation is done once, before the passes (see `compensate_centred`);
+    // a zero lever arm makes the wrapper an exact no-op
+    Compensated::new(f, Vec3::zeros())
+}
+
+/// Half-width of the centred differentiator window, s (window 50 ms, as the
+/// real-time differentiator's, but centred: zero lag and a quarter of its noise).
+const CENTRED_HALF_WINDOW_S: f64 = 0.025;
+
+/// Lever-arm compensation for a whole recording with a centred derivative.
+///
+/// ω̇ at sample k is the slope of a least-squares line through the rates of
+/// the samples within ±25 ms (actual time stamps): the centred form of the
+/// local polynomial fit, exact for quadratics, with no lag (which the
+/// real-time path cannot have) and a noise gain of about 0.06·σ/h for 15
+/// samples. The bias used for ω is `bias` (from a first pass).
+pub fn compensate_centred(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], lever_arm_m: &Vec3, bias: &Vec3) -> Vec<Vec3> {
+    let n = gyr.len();
+    let mut t = Vec::with_capacity(n);
+    let mut now = 0.0;
+    for &h in dt {
+        now += if h.is_finite() && h > 0.0 { h } else { 0.0 };
+        t.push(now);
+    }
+    let good = |k: usize| gyr[k].iter().all(|v| v.is_finite());
+    (0..n)
+        .map(|k| {
+            if !good(k) || !acc[k].iter().all(|v| v.is_finite()) {
+                return acc[k];
+            }
+            let (mut lo, mut hi) = (k, k);
+            while lo > 0 && t[k] - t[lo - 1] <= CENTRED_HALF_WINDOW_S {
+                lo -= 1;
+            }
+            while hi + 1 < n && t[hi + 1] - t[k] <= CENTRED_HALF_WINDOW_S {
+                hi += 1;
+            }
+            let idx: Vec<usize> = (lo..=hi).filter(|&i| good(i)).collect();
+            let w = gyr[k] - bias;
+            let w_dot = if idx.len() >= 3 {
+                let tm = idx.iter().map(|&i| t[i]).sum::<f64>() / idx.len() as f64;
+                let ym = idx.iter().map(|&i| gyr[i]).sum::<Vec3>() / idx.len() as f64;
+                let sxx: f64 = idx.iter().map(|&i| (t[i] - tm).powi(2)).sum();
+                let sxy: Vec3 = idx.iter().map(|&i| (gyr[i] - ym) * (t[i] - tm)).sum();
+                if sxx > 0.0 { sxy / sxx } else { Vec3::zeros() }
+            } else {
+                Vec3::zeros()
+            };
+            acc[k] - clino_core::compensate::lever_arm_acceleration(&w, &w_dot, lever_arm_m)
+        })
+        .collect()
+}
+
+/// One pass over the recording. Returns the attitude after each sample and the
+/// bias estimate at each sample (in the forward sense). With `bias` given, the
+/// filter's bias is imposed at every sample instead of learnt.
 /// `dt[k]` is the interval that ends at sample k.
-fn pass(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], reverse: bool, f: &mut dyn AttitudeFilter) -> Vec<Attitude> {
+fn pass(
+    gyr: &[Vec3],
+    acc: &[Vec3],
+    dt: &[f64],
+    reverse: bool,
+    f: &mut Runner,
+    bias: Option<&[Vec3]>,
+) -> (Vec<Attitude>, Vec<Vec3>) {
     let n = gyr.len();
     let mut out = vec![Attitude::identity(); n];
+    let mut bout = vec![Vec3::zeros(); n];
+    let sign = if reverse { -1.0 } else { 1.0 };
     for k in 0..n {
+        let i = if reverse { n - 1 - k } else { k };
+        if let Some(b) = bias {
+            f.inner_mut().set_gyro_bias(b[i] * sign);
+        }
         if reverse {
-            let i = n - 1 - k;
             // going from sample i+1 back to sample i undoes the rotation of interval i+1
             let (g, h) = if i + 1 < n { (gyr[i + 1], dt[i + 1]) } else { (gyr[i], dt[i]) };
             f.update(-g, acc[i], h);
-            out[i] = f.attitude();
         } else {
-            f.update(gyr[k], acc[k], dt[k]);
-            out[k] = f.attitude();
+            f.update(gyr[i], acc[i], dt[i]);
         }
+        out[i] = f.attitude();
+        bout[i] = f.gyro_bias() * sign;
     }
-    out
+    (out, bout)
 }
 
 /// Offline tilt of a whole recording (see the [module docs](self)).
@@ -81,14 +198,37 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
     if n == 0 {
         return Vec::new();
     }
-    let mut f1 = make(opts, None);
-    pass(gyr, acc, dt, false, f1.as_mut());
-    // the reversed body sees −ω, so its bias is −b
-    let mut f2 = make(opts, Some(-f1.gyro_bias()));
-    let backward = pass(gyr, acc, dt, true, f2.as_mut());
-    let mut f3 = make(opts, Some(-f2.gyro_bias()));
-    let forward = pass(gyr, acc, dt, false, f3.as_mut());
-    forward
+    // 1–3: learn the bias forwards, backwards (from the end's bias) and forwards
+    // again (from the start's bias); with a lever arm, compensate once, centred,
+    // with the bias of a first (real-time-compensated) pass
+    let compensated;
+    let acc = match opts.lever_arm_m {
+        Some(p) => {
+            let mut f0 = Compensated::new(Dynamic::new(opts.params), p);
+            for k in 0..n {
+                f0.update(gyr[k], acc[k], dt[k]);
+            }
+            compensated = compensate_centred(gyr, acc, dt, &p, &f0.gyro_bias());
+            &compensated[..]
+        }
+        None => acc,
+    };
+    // each pass starts where the previous one ended (attitude and bias), so
+    // no pass starts cold in the middle of motion
+    let mut fa = make(opts, None, true);
+    let (qa, ba) = pass(gyr, acc, dt, false, &mut fa, None);
+    let mut fb = make(opts, Some((qa[n - 1], -ba[n - 1])), true);
+    let (qb, bb) = pass(gyr, acc, dt, true, &mut fb, None);
+    let mut fc = make(opts, Some((qb[0], bb[0])), true);
+    let (qc, bc) = pass(gyr, acc, dt, false, &mut fc, None);
+    // the smoothed bias trajectory: both directions' estimates, averaged
+    let bs: Vec<Vec3> = bb.iter().zip(&bc).map(|(x, y)| (x + y) * 0.5).collect();
+    // 4–5: tilt forwards and backwards with that bias imposed
+    let mut fd = make(opts, Some((qb[0], bs[0])), false);
+    let (forward, _) = pass(gyr, acc, dt, false, &mut fd, Some(&bs));
+    let mut fe = make(opts, Some((qc[n - 1], -bs[n - 1])), false);
+    let (backward, _) = pass(gyr, acc, dt, true, &mut fe, Some(&bs));
+    let combined: Vec<Attitude> = forward
         .iter()
         .zip(&backward)
         .map(|(qf, qb)| {
@@ -101,7 +241,126 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
             let corr = UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
             qf * corr
         })
+        .collect();
+    match &opts.refine {
+        Some(b) => refine_bounded_motion(&combined, acc, dt, b, opts.params.gravity_m_s2),
+        None => combined,
+    }
+}
+
+/// Whole-record refinement of a tilt estimate from bounded motion.
+///
+/// With the attitude estimate q̂, the horizontal specific force in the
+/// navigation frame, f̂ = (q̂ ⊗ f ⊗ q̂*)_EN, is the mount's horizontal
+/// acceleration plus g times the remaining tilt error δ = (δ_E, δ_N)
+/// (true = exp(δ) ⊗ q̂): a_E = f̂_E + g·δ_N, a_N = f̂_N − g·δ_E. Integrated
+/// once and twice it gives velocity and position, which for a mount working
+/// in place must stay near zero. Per horizontal axis this is a linear
+/// Gauss–Markov model with state (d, v, p):
+///
+/// ```text
+/// d_{k+1} = φ·d_k + w,   φ = exp(−h/τ),  Var w = σ_d²·(1 − φ²)
+/// v_{k+1} = v_k + (f̂_k + g·d_k)·h
+/// p_{k+1} = p_k + v_k·h
+/// 0 = v + n_v (σ = speed),  0 = p + n_p (σ = range), at `constraint_rate_hz`
+/// ```
+///
+/// solved exactly by a Kalman filter and a Rauch–Tung–Striebel smoother
+/// (Rauch, Tung, Striebel, AIAA J. 3(8), 1965); the smoothed d is applied as
+/// the navigation-frame correction exp(δ) ⊗ q̂. O(n) time and memory.
+pub fn refine_bounded_motion(q: &[Attitude], acc: &[Vec3], dt: &[f64], b: &BoundedMotion, g: f64) -> Vec<Attitude> {
+    let n = q.len().min(acc.len()).min(dt.len());
+    if n < 2 {
+        return q.to_vec();
+    }
+    // horizontal specific force in ENU; unusable samples contribute nothing
+    let mut fe = Vec::with_capacity(n);
+    let mut fnn = Vec::with_capacity(n);
+    let mut h = Vec::with_capacity(n);
+    for k in 0..n {
+        let f = q[k] * acc[k];
+        let ok = f.iter().all(|v| v.is_finite());
+        fe.push(if ok { f.x } else { 0.0 });
+        fnn.push(if ok { f.y } else { 0.0 });
+        h.push(if dt[k].is_finite() && dt[k] > 0.0 { dt[k] } else { 0.0 });
+    }
+    // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E)
+    let d_n = rts_axis(&fe, &h, b, g);
+    let d_e_neg = rts_axis(&fnn, &h, b, g);
+    (0..n)
+        .map(|k| {
+            let c = Vec3::new(-d_e_neg[k], d_n[k], 0.0);
+            if c.iter().all(|v| v.is_finite()) {
+                UnitQuaternion::from_scaled_axis(c) * q[k]
+            } else {
+                q[k]
+            }
+        })
+        .chain(q[n..].iter().copied())
         .collect()
+}
+
+/// Kalman filter + RTS smoother of one horizontal axis of [`refine_bounded_motion`];
+/// returns the smoothed tilt-error state d at every sample.
+fn rts_axis(f: &[f64], h: &[f64], b: &BoundedMotion, g: f64) -> Vec<f64> {
+    use nalgebra::{Matrix3, Vector3 as V3};
+    let n = f.len();
+    let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
+    let (rv, rp) = (b.speed_m_s * b.speed_m_s, b.range_m * b.range_m);
+    let mut x = V3::new(0.0, 0.0, 0.0);
+    let mut p = Matrix3::from_diagonal(&V3::new(sd2, rv, rp));
+    let mut xs_pred = Vec::with_capacity(n);
+    let mut ps_pred = Vec::with_capacity(n);
+    let mut xs = Vec::with_capacity(n);
+    let mut ps = Vec::with_capacity(n);
+    let mut fs = Vec::with_capacity(n);
+    let mut since = 0.0;
+    let period = 1.0 / b.constraint_rate_hz;
+    for k in 0..n {
+        // predict over the interval ending at sample k
+        let hk = h[k];
+        let phi = (-hk / b.tilt_tau_s).exp();
+        let fm = Matrix3::new(phi, 0.0, 0.0, g * hk, 1.0, 0.0, 0.0, hk, 1.0);
+        x = fm * x + V3::new(0.0, f[k] * hk, 0.0);
+        let mut q = Matrix3::zeros();
+        q[(0, 0)] = sd2 * (1.0 - phi * phi);
+        p = fm * p * fm.transpose() + q;
+        xs_pred.push(x);
+        ps_pred.push(p);
+        fs.push(fm);
+        // velocity and position bounds at the constraint rate
+        since += hk;
+        if since >= period {
+            since -= period;
+            for (i, r) in [(1usize, rv), (2usize, rp)] {
+                let s = p[(i, i)] + r;
+                let kgain = p.column(i) / s;
+                let innov = -x[i];
+                x += kgain * innov;
+                p -= kgain * p.row(i);
+            }
+            p = (p + p.transpose()) * 0.5;
+        }
+        xs.push(x);
+        ps.push(p);
+    }
+    // Rauch–Tung–Striebel backward pass
+    let mut out = vec![0.0; n];
+    let mut xsm = xs[n - 1];
+    let mut psm = ps[n - 1];
+    out[n - 1] = xsm[0];
+    for k in (0..n - 1).rev() {
+        let pp = ps_pred[k + 1];
+        let c = match pp.try_inverse() {
+            Some(inv) => ps[k] * fs[k + 1].transpose() * inv,
+            None => Matrix3::zeros(),
+        };
+        xsm = xs[k] + c * (xsm - xs_pred[k + 1]);
+        psm = ps[k] + c * (psm - pp) * c.transpose();
+        out[k] = xsm[0];
+    }
+    let _ = psm;
+    out
 }
 
 #[cfg(test)]
@@ -119,7 +378,7 @@ mod tests {
     /// in the filter: a hard case for a causal filter (centripetal acceleration).
     fn recording() -> (Vec<Vec3>, Vec<Vec3>, Vec<f64>, Vec<Attitude>) {
         let m = SlewingPlatform::default();
-        let rate = 100.0;
+        let rate = 200.0;
         let n = (90.0 * rate) as usize;
         let bias = Vec3::new(0.3, -0.2, 0.1).map(f64::to_radians);
         let (mut g, mut a, mut d, mut q) = (vec![], vec![], vec![], vec![]);
@@ -128,6 +387,7 @@ mod tests {
             g.push(tr.gyr_rad_s + bias);
             a.push(tr.specific_force(clino_core::G0));
             d.push(1.0 / rate);
+            let _ = &tr;
             q.push(tr.attitude);
         }
         (g, a, d, q)
@@ -138,11 +398,13 @@ mod tests {
         let (g, a, d, q) = recording();
         let opts = SmoothOptions::default();
         let off = smooth(&g, &a, &d, &opts);
-        let mut f = Dynamic::default();
-        let on = pass(&g, &a, &d, false, &mut f);
+        let mut f = make(&SmoothOptions::default(), None, true);
+        let (on, _) = pass(&g, &a, &d, false, &mut f, None);
         let rms = |e: &[Attitude]| {
-            let s: f64 = e.iter().zip(&q).skip(500).map(|(x, y)| tilt_err(x, y).powi(2)).sum();
-            (s / (e.len() - 500) as f64).sqrt().to_degrees()
+            // scored after the machine's initial 10-s rest
+            let skip = 2000;
+            let s: f64 = e.iter().zip(&q).skip(skip).map(|(x, y)| tilt_err(x, y).powi(2)).sum();
+            (s / (e.len() - skip) as f64).sqrt().to_degrees()
         };
         let (e_on, e_off) = (rms(&on), rms(&off));
         assert!(e_off < e_on, "offline {e_off}° vs online {e_on}°");

@@ -1,7 +1,13 @@
 //! One module per subcommand, and the argument groups they share.
+pub mod allan;
+pub mod calibrate;
 pub mod demo;
 pub mod eval;
 pub mod fuse;
+pub mod redundancy;
+pub mod stewart;
+pub mod survey;
+pub mod testbench;
 
 use clino::core::filter::Integrator;
 use clino::fusion::Gains;

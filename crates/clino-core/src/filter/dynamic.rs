@@ -51,18 +51,24 @@
 //!   the rate at which scale-factor drift equals the design drift
 //!   (bias-level drift / scale-factor error ≈ 0.01 rad/s / 0.5 % = 2 rad/s).
 //!   The bias gain is not raised with it (scale-factor error is not bias).
-//! * **Rest.** When the RMS deviations of the rate and of the specific force
-//!   from their 0.5-s low-passed values, and the low-passed rate itself (less
-//!   the bias), have stayed under thresholds for `rest_time_s`, the mount
+//! * **Rest.** When the rate and the specific force (low-passed at ≈ 2 Hz)
+//!   have stayed within thresholds of their 0.5-s means, and the rate less
+//!   the bias under a threshold, for `rest_time_s`, the mount
 //!   is at rest: its velocity is zero and its specific force is gravity. The
 //!   tilt is then pulled straight to the accelerometer at
 //!   `rest_bandwidth_rad_s` (globally convergent, like Mahony's correction),
 //!   the velocity residual is drained, the bias is taken from the low-passed
 //!   gyro (time constant `rest_bias_tau_s`), and motion bias learning pauses.
 //!   This is the zero-velocity / zero-rate update of strapdown navigation.
-//! * **Start.** The attitude starts from the first valid accelerometer sample
-//!   and the bandwidth starts at `start_bandwidth_rad_s`, falling linearly to
-//!   p over `start_time_s`, so a start in motion converges in seconds.
+//! * **Start.** The attitude starts from the first valid accelerometer sample.
+//!   Over `start_time_s` the loop bandwidth falls linearly from
+//!   `start_bandwidth_rad_s` to p, and a direct pull to the accelerometer of
+//!   the same falling rate is added, so the error of that first sample
+//!   (vibration, motion) is averaged away within seconds; motion bias learning
+//!   waits until then (a large initial error is not a bias).
+//! * **Vibration.** Rest is judged on rate and specific force low-passed at
+//!   about 2 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
+//!   metres per second squared at tens of hertz without moving the mount.
 //!
 //! Everything is continuous-time: the defaults mean the same thing at 50 Hz
 //! and at 1 kHz. Nothing allocates, nothing can panic; a non-finite sample is
@@ -90,18 +96,18 @@ pub struct DynamicParams {
     /// ω_s, rad/s: rotation rate at which the loop bandwidth is √2·p₀. Default 2 rad/s
     /// (≈ 0.01 rad/s design drift / 0.5 % scale-factor error).
     pub scale_rate_rad_s: f64,
-    /// Rest threshold on the RMS deviation of ω from its low-passed value ω̄
-    /// (mean square low-passed over `lowpass_tau_s`) and on |ω̄ − b|, rad/s.
-    /// Default 2°/s (MEMS noise is well below 0.5°/s RMS even at 1 kHz; hand
-    /// tremor, walking and engines exceed 2°/s).
+    /// Rest threshold on |ω_f − ω̄| and on |ω_f − b|, rad/s, where ω_f is the rate
+    /// low-passed at `vibration_tau_s` and ω̄ its 0.5-s mean. Default 2°/s
+    /// (MEMS noise after the 2-Hz low-pass is below 0.05°/s even at 1 kHz;
+    /// hand tremor, walking and machine motion exceed 2°/s).
     pub rest_gyr_rad_s: f64,
-    /// Rest threshold on |ω − b| before the first rest has been seen, rad/s.
-    /// Default 20°/s: the zero-rate tolerance of an uncalibrated MPU6050, so the
-    /// first rest after power-on is recognised whatever the initial bias.
+    /// Rest threshold on |ω_f − b| until the bias has been learnt at rest
+    /// (for `rest_bias_tau_s` in all), rad/s. Default 20°/s: the zero-rate
+    /// tolerance of an uncalibrated MPU6050, so the first rest after power-on
+    /// is recognised whatever the initial bias.
     pub rest_gyr_initial_rad_s: f64,
-    /// Rest threshold on the RMS deviation of the specific force from its
-    /// low-passed value, m/s². Default 0.5 m/s² (≈ 50 mg; MPU6050 noise is
-    /// 0.12 m/s² RMS per axis even at 1 kHz).
+    /// Rest threshold on |f_f − f̄|, m/s² (same filtering as the rate). Default
+    /// 0.5 m/s² (≈ 50 mg; MPU6050 noise after the low-pass is ≈ 0.01 m/s²).
     pub rest_acc_m_s2: f64,
     /// Time the thresholds must hold before rest is declared, s. Default 1.5 s.
     pub rest_time_s: f64,
@@ -109,11 +115,20 @@ pub struct DynamicParams {
     /// Default 1 rad/s (1 s): averages accelerometer noise over a second while
     /// converging from any initial error within seconds once the mount is still.
     pub rest_bandwidth_rad_s: f64,
-    /// Time constant of bias learning at rest, s. Default 3 s.
+    /// Time constant of bias learning at rest once the bias is known, s.
+    /// Default 3 s. Until that much rest has been seen the bias is the running
+    /// mean of the still gyro, so a first rest of a few seconds suffices.
     pub rest_bias_tau_s: f64,
+    /// Memory of what was learnt at rest while moving, s: the weight of the
+    /// rest estimate decays with this time constant, so the next rest
+    /// corrects drift faster. Default 60 s (MEMS bias drifts over minutes).
+    pub bias_memory_s: f64,
     /// Time constant of the low-pass filters used by rest detection and by the
     /// rate magnitude |ω̄|, s. Default 0.5 s.
     pub lowpass_tau_s: f64,
+    /// Time constant of the vibration low-pass applied before rest detection, s.
+    /// Default 0.08 s (≈ 2 Hz): engine and tool vibration does not count as motion.
+    pub vibration_tau_s: f64,
     /// Largest gyro bias the filter will believe, rad/s (per axis). Default 20°/s.
     pub bias_max_rad_s: f64,
     /// Bandwidth at start-up, rad/s. Default 1 rad/s.
@@ -122,6 +137,9 @@ pub struct DynamicParams {
     pub start_time_s: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
+    /// Learn the gyro bias (at rest and in motion). Default true; the offline
+    /// smoother turns it off when it imposes a bias trajectory of its own.
+    pub learn_bias: bool,
 }
 
 impl Default for DynamicParams {
@@ -138,11 +156,14 @@ impl Default for DynamicParams {
             rest_time_s: 1.5,
             rest_bandwidth_rad_s: 1.0,
             rest_bias_tau_s: 3.0,
+            bias_memory_s: 60.0,
             lowpass_tau_s: 0.5,
+            vibration_tau_s: 0.08,
             bias_max_rad_s: 20f64.to_radians(),
             start_bandwidth_rad_s: 1.0,
             start_time_s: 3.0,
             gravity_m_s2: G0,
+            learn_bias: true,
         }
     }
 }
@@ -155,14 +176,16 @@ pub struct Dynamic {
     q: Attitude,
     bias: Vec3,
     vel: [f64; 2],
+    gyr_f: Vec3,
+    acc_f: Vec3,
     gyr_lp: Vec3,
     acc_lp: Vec3,
-    gyr_dev: f64,
-    acc_dev: f64,
     rate_lp: f64,
     still_time: f64,
     rest: bool,
     rested_once: bool,
+    rest_learnt_s: f64,
+    bias_info_s: f64,
     time: f64,
     initialised: bool,
 }
@@ -181,11 +204,13 @@ struct Reciprocals {
     scale_rate: f64,
     gravity: f64,
     tilt_gain: f64,
-    rest_bias_tau: f64,
+    bias_memory: f64,
     start_time: f64,
     dt: f64,
     k_lp: f64,
-    k_rest: f64,
+    k_forget: f64,
+    vibration_tau: f64,
+    k_vib: f64,
 }
 
 impl Reciprocals {
@@ -195,11 +220,13 @@ impl Reciprocals {
             scale_rate: 1.0 / p.scale_rate_rad_s,
             gravity: 1.0 / p.gravity_m_s2,
             tilt_gain: 1.0 / p.tilt_gain,
-            rest_bias_tau: 1.0 / p.rest_bias_tau_s,
+            bias_memory: 1.0 / p.bias_memory_s,
             start_time: 1.0 / p.start_time_s,
             dt: f64::NAN,
             k_lp: 0.0,
-            k_rest: 0.0,
+            k_forget: 0.0,
+            vibration_tau: 1.0 / p.vibration_tau_s,
+            k_vib: 0.0,
         }
     }
 }
@@ -236,14 +263,16 @@ impl Dynamic {
             q: Attitude::identity(),
             bias: Vec3::zeros(),
             vel: [0.0; 2],
+            gyr_f: Vec3::zeros(),
+            acc_f: Vec3::zeros(),
             gyr_lp: Vec3::zeros(),
             acc_lp: Vec3::zeros(),
-            gyr_dev: 0.0,
-            acc_dev: 0.0,
             rate_lp: 0.0,
             still_time: 0.0,
             rest: false,
             rested_once: false,
+            rest_learnt_s: 0.0,
+            bias_info_s: 0.0,
             time: 0.0,
             initialised: false,
         }
@@ -265,11 +294,15 @@ impl Dynamic {
         self.rest
     }
 
-    /// Set the gyro-bias estimate (rad/s), e.g. from a previous run or a calibration.
+    /// Set the gyro-bias estimate (rad/s), e.g. from a previous run or a
+    /// calibration. It is treated as known: rest refines it with time constant
+    /// `rest_bias_tau_s` instead of replacing it.
     pub fn set_gyro_bias(&mut self, bias: Vec3) {
         if finite3(&bias) {
             let m = self.params.bias_max_rad_s;
             self.bias = bias.map(|b| b.clamp(-m, m));
+            self.bias_info_s = self.params.rest_bias_tau_s;
+            self.rested_once = true;
         }
     }
 
@@ -280,6 +313,15 @@ impl Dynamic {
             self.initialised = true;
             self.time = 0.0;
         }
+    }
+
+    /// Continue from a known, converged state (attitude and gyro bias), e.g.
+    /// the end of another run over the same data: no accelerometer
+    /// initialisation and no start-up phase.
+    pub fn resume(&mut self, q: Attitude, bias: Vec3) {
+        self.set_attitude(q);
+        self.set_gyro_bias(bias);
+        self.time = self.params.start_time_s;
     }
 
     /// The current horizontal velocity residual (east, north), m/s.
@@ -313,6 +355,8 @@ impl AttitudeFilter for Dynamic {
                     self.q = q;
                     self.gyr_lp = gyr;
                     self.acc_lp = acc;
+                    self.gyr_f = gyr;
+                    self.acc_f = acc;
                     self.initialised = true;
                     self.time = 0.0;
                     Step::Initialised
@@ -327,15 +371,18 @@ impl AttitudeFilter for Dynamic {
         if dt != self.inv.dt {
             self.inv.dt = dt;
             self.inv.k_lp = one_minus_exp_neg(dt * self.inv.lowpass_tau);
-            self.inv.k_rest = one_minus_exp_neg(dt * self.inv.rest_bias_tau);
+            self.inv.k_forget = one_minus_exp_neg(dt * self.inv.bias_memory);
+            self.inv.k_vib = one_minus_exp_neg(dt * self.inv.vibration_tau);
         }
         let k_lp = self.inv.k_lp;
-        self.gyr_lp += (gyr - self.gyr_lp) * k_lp;
-        self.acc_lp += (acc - self.acc_lp) * k_lp;
-        // mean-square deviations from the low-passed signals (noise averages out,
-        // so one noisy sample cannot veto rest at high sample rates)
-        self.gyr_dev += ((gyr - self.gyr_lp).norm_squared() - self.gyr_dev) * k_lp;
-        self.acc_dev += ((acc - self.acc_lp).norm_squared() - self.acc_dev) * k_lp;
+        let k_vib = self.inv.k_vib;
+        // vibration (engine, tool) above a few hertz is not motion of the mount:
+        // rest is judged on the rate and specific force low-passed at `vibration_tau_s`
+        self.gyr_f += (gyr - self.gyr_f) * k_vib;
+        self.acc_f += (acc - self.acc_f) * k_vib;
+        let (gyr_f, acc_f) = (self.gyr_f, self.acc_f);
+        self.gyr_lp += (gyr_f - self.gyr_lp) * k_lp;
+        self.acc_lp += (acc_f - self.acc_lp) * k_lp;
         let w = gyr - self.bias;
         let w2 = w.norm_squared();
         let abs_thr = if self.rested_once {
@@ -343,13 +390,19 @@ impl AttitudeFilter for Dynamic {
         } else {
             p.rest_gyr_initial_rad_s
         };
-        let still = self.gyr_dev < p.rest_gyr_rad_s * p.rest_gyr_rad_s
-            && self.acc_dev < p.rest_acc_m_s2 * p.rest_acc_m_s2
-            && (self.gyr_lp - self.bias).norm_squared() < abs_thr * abs_thr;
+        // every sample, on the vibration-filtered signals: noise is averaged by the
+        // low-pass, and motion ends rest within ≈ `vibration_tau_s`
+        let still = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
+            && (acc_f - self.acc_lp).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
+            && (gyr_f - self.bias).norm_squared() < abs_thr * abs_thr;
         self.still_time = if still { self.still_time + dt } else { 0.0 };
         self.rest = self.still_time > p.rest_time_s;
         if self.rest {
-            self.rested_once = true;
+            // the tight threshold applies once the bias has been learnt at rest
+            self.rest_learnt_s += dt;
+            if self.rest_learnt_s > p.rest_bias_tau_s {
+                self.rested_once = true;
+            }
         }
         let wn = sqrt(w2);
         self.rate_lp += (wn - self.rate_lp) * k_lp;
@@ -376,9 +429,6 @@ impl AttitudeFilter for Dynamic {
         let r10 = 2.0 * (qx * qy + qw * qz);
         let r11 = 1.0 - 2.0 * (qx * qx + qz * qz);
         let r12 = 2.0 * (qy * qz - qw * qx);
-        let r20 = 2.0 * (qx * qz - qw * qy);
-        let r21 = 2.0 * (qy * qz + qw * qx);
-        let r22 = 1.0 - 2.0 * (qx * qx + qy * qy);
         let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
         let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
 
@@ -394,12 +444,11 @@ impl AttitudeFilter for Dynamic {
             // At rest the specific force *is* gravity: pull the tilt straight to
             // it (rate `rest_bandwidth_rad_s`, global convergence like Mahony's)
             // and drain the velocity residual, which must be zero.
-            let fu = r20 * acc.x + r21 * acc.y + r22 * acc.z;
-            let fnorm = sqrt(fe * fe + fnn * fnn + fu * fu);
+            // (divided by g, not by |f|: linear in f, so vibration cannot rectify)
             let decay = 1.0 - one_minus_exp_neg(p.rest_bandwidth_rad_s * 4.0 * dt);
             self.vel[0] *= decay;
             self.vel[1] *= decay;
-            let k = p.rest_bandwidth_rad_s * dt / fnorm;
+            let k = p.rest_bandwidth_rad_s * dt * self.inv.gravity;
             kc = (k * fnn, -k * fe);
         } else {
             // --- gains of the bounded-velocity loop
@@ -413,7 +462,18 @@ impl AttitudeFilter for Dynamic {
             self.vel[0] = (self.vel[0] + fe * dt) * decay;
             self.vel[1] = (self.vel[1] + fnn * dt) * decay;
             let k = kt * self.inv.gravity * dt;
-            kc = (k * self.vel[1], -k * self.vel[0]);
+            let (mut cx, mut cy) = (k * self.vel[1], -k * self.vel[0]);
+            if self.time < p.start_time_s {
+                // start-up: also pull straight to the accelerometer, at a rate
+                // falling from `start_bandwidth_rad_s` to 0 over `start_time_s`
+                let ks = p.start_bandwidth_rad_s
+                    * (1.0 - self.time * self.inv.start_time)
+                    * dt
+                    * self.inv.gravity;
+                cx += ks * fnn;
+                cy -= ks * fe;
+            }
+            kc = (cx, cy);
         }
         let (cx, cy) = kc;
         let q = nav_tilt_step(&q, cx, cy);
@@ -421,13 +481,23 @@ impl AttitudeFilter for Dynamic {
 
         // --- bias: motion learning through the loop (c mapped to the body
         // frame with Rᵀ), rest learning from the low-passed gyro
-        if kb_over_kt > 0.0 {
+        if !p.learn_bias {
+            return Step::Fused;
+        }
+        if kb_over_kt > 0.0 && self.time > p.start_time_s {
             self.bias.x -= (r00 * cx + r10 * cy) * kb_over_kt;
             self.bias.y -= (r01 * cx + r11 * cy) * kb_over_kt;
             self.bias.z -= (r02 * cx + r12 * cy) * kb_over_kt;
         }
         if self.rest {
-            self.bias += (self.gyr_lp - self.bias) * self.inv.k_rest;
+            // running mean of the still gyro while little is known (a first rest
+            // learns the bias in about its own duration), exponential with time
+            // constant `rest_bias_tau_s` once that much rest has been seen
+            self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
+            self.bias += (self.gyr_lp - self.bias) * (dt / self.bias_info_s);
+        } else {
+            // what was learnt at rest ages while moving (bias drifts with time and temperature)
+            self.bias_info_s *= 1.0 - self.inv.k_forget;
         }
         let m = p.bias_max_rad_s;
         self.bias = self.bias.map(|b| b.clamp(-m, m));

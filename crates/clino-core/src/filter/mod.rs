@@ -81,6 +81,29 @@ pub trait AttitudeFilter {
     }
 }
 
+/// A mutable reference to a filter is a filter (so wrappers such as
+/// [`crate::compensate::Compensated`] can hold a `&mut dyn AttitudeFilter`).
+impl<F: AttitudeFilter + ?Sized> AttitudeFilter for &mut F {
+    fn name(&self) -> &'static str {
+        (**self).name()
+    }
+    fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
+        (**self).update(gyr, acc, dt)
+    }
+    fn attitude(&self) -> Attitude {
+        (**self).attitude()
+    }
+    fn is_initialised(&self) -> bool {
+        (**self).is_initialised()
+    }
+    fn reset(&mut self) {
+        (**self).reset()
+    }
+    fn gyro_bias(&self) -> Vec3 {
+        (**self).gyro_bias()
+    }
+}
+
 /// True when every component is finite.
 #[inline(always)]
 pub(crate) fn finite3(v: &Vec3) -> bool {

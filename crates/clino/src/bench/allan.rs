@@ -19,8 +19,8 @@
 //! K (the +½ slope, read at τ = 3 s). They are estimated by a weighted,
 //! non-negative least-squares fit of that sum to σ² on the log-spaced τ grid.
 //! The confidence of each term is propagated from the bound on σ² at the τ
-//! where that term's share of the fitted σ² is largest (a conservative bound:
-//! the fit uses every τ), plus the whole share of the other terms there (their
+//! where that gives the tightest interval — where the term dominates and σ²
+//! is best determined (a conservative bound: the fit uses every τ) — plus the whole share of the other terms there (their
 //! shapes are idealised: band-limited flicker is not flat at its band edge),
 //! widened by the Birge ratio √(χ²/(n − p)) of the
 //! fit when the three-term model does not explain the curve within its
@@ -55,7 +55,7 @@ pub struct Term {
     pub lo: f64,
     /// Upper bound.
     pub hi: f64,
-    /// τ at which the term dominates most (where its bound is taken), s.
+    /// τ at which the bound is taken (where it is tightest), s.
     pub tau_s: f64,
 }
 
@@ -82,14 +82,23 @@ pub struct NoiseTerms {
 /// point has at least 9 independent clusters).
 pub fn allan_deviation(y: &[f64], rate_hz: f64, per_decade: usize) -> Result<Vec<AllanPoint>> {
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("sample rate {rate_hz} Hz")));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("sample rate {rate_hz} Hz"),
+        ));
     }
     if let Some(i) = y.iter().position(|v| !v.is_finite()) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("Allan deviation: sample {i} is not finite")));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("Allan deviation: sample {i} is not finite"),
+        ));
     }
     let n = y.len();
     if n < 18 {
-        return Err(Error::new(ErrorKind::Empty, format!("Allan deviation needs at least 18 samples, got {n}")));
+        return Err(Error::new(
+            ErrorKind::Empty,
+            format!("Allan deviation needs at least 18 samples, got {n}"),
+        ));
     }
     let tau0 = 1.0 / rate_hz;
     // integrated angle, with the mean removed (it cancels in the second difference
@@ -157,7 +166,8 @@ pub fn allan_deviation(y: &[f64], rate_hz: f64, per_decade: usize) -> Result<Vec
 pub fn edf(n: usize, m: usize) -> f64 {
     let (n, m) = (n as f64, m as f64);
     let w = (3.0 * (n - 1.0) / (2.0 * m) - 2.0 * (n - 2.0) / n) * 4.0 * m * m / (4.0 * m * m + 5.0);
-    let rw = (n - 2.0) / m * ((n - 1.0).powi(2) - 3.0 * m * (n - 1.0) + 4.0 * m * m) / (n - 3.0).powi(2);
+    let rw =
+        (n - 2.0) / m * ((n - 1.0).powi(2) - 3.0 * m * (n - 1.0) + 4.0 * m * m) / (n - 3.0).powi(2);
     w.min(rw).max(1.0)
 }
 
@@ -178,7 +188,10 @@ const B_COEF: f64 = 2.0 * std::f64::consts::LN_2 / std::f64::consts::PI;
 /// The IEEE 952 terms N, B, K of an Allan curve (see the module doc).
 pub fn noise_terms(pts: &[AllanPoint]) -> Result<NoiseTerms> {
     if pts.len() < 3 {
-        return Err(Error::new(ErrorKind::Degenerate, "too few Allan points to read the noise terms"));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            "too few Allan points to read the noise terms",
+        ));
     }
     // basis functions of σ²(τ) for c = (N², B², K²)
     let basis = |tau: f64| [1.0 / tau, B_COEF, tau / 3.0];
@@ -208,7 +221,12 @@ pub fn noise_terms(pts: &[AllanPoint]) -> Result<NoiseTerms> {
             best = Some((r, c));
         }
     }
-    let (_, c) = best.ok_or_else(|| Error::new(ErrorKind::Degenerate, "no non-negative noise model fits the Allan curve"))?;
+    let (_, c) = best.ok_or_else(|| {
+        Error::new(
+            ErrorKind::Degenerate,
+            "no non-negative noise model fits the Allan curve",
+        )
+    })?;
     let model = |tau: f64| basis(tau).iter().zip(c).map(|(b, c)| b * c).sum::<f64>();
     // Birge ratio: when the three-term model misses the curve by more than its
     // intervals allow (reduced χ² > 1), widen every interval by √χ²_red
@@ -229,24 +247,25 @@ pub fn noise_terms(pts: &[AllanPoint]) -> Result<NoiseTerms> {
         if c[j] <= 0.0 {
             return None;
         }
-        // where does the term dominate most?
-        let (i, _) = pts
+        // the bound at each τ; keep the tightest (where the term dominates and
+        // the Allan variance is best determined)
+        let (lo2, hi2, tau) = pts
             .iter()
-            .enumerate()
-            .map(|(i, p)| (i, basis(p.tau_s)[j] * c[j] / model(p.tau_s)))
-            .max_by(|a, b| a.1.total_cmp(&b.1))?;
-        let p = pts[i];
-        let tot = model(p.tau_s);
-        let (lo_f, hi_f) = ((p.adev_lo / p.adev).powi(2), (p.adev_hi / p.adev).powi(2));
-        let bj = basis(p.tau_s)[j];
-        let others = tot - bj * c[j];
-        let lo2 = (c[j] - (inflate * tot * (1.0 - lo_f) + others) / bj).max(0.0);
-        let hi2 = c[j] + (inflate * tot * (hi_f - 1.0) + others) / bj;
+            .map(|p| {
+                let tot = model(p.tau_s);
+                let (lo_f, hi_f) = ((p.adev_lo / p.adev).powi(2), (p.adev_hi / p.adev).powi(2));
+                let bj = basis(p.tau_s)[j];
+                let others = tot - bj * c[j];
+                let lo2 = (c[j] - (inflate * tot * (1.0 - lo_f) + others) / bj).max(0.0);
+                let hi2 = c[j] + (inflate * tot * (hi_f - 1.0) + others) / bj;
+                (lo2, hi2, p.tau_s)
+            })
+            .min_by(|a, b| (a.1 - a.0).total_cmp(&(b.1 - b.0)))?;
         Some(Term {
             value: c[j].sqrt(),
             lo: lo2.sqrt(),
             hi: hi2.sqrt(),
-            tau_s: p.tau_s,
+            tau_s: tau,
         })
     };
     Ok(NoiseTerms {
@@ -254,6 +273,11 @@ pub fn noise_terms(pts: &[AllanPoint]) -> Result<NoiseTerms> {
         bias_instability: term(1),
         random_walk: term(2),
     })
+}
+
+/// True when `b` is strictly after `a` (false when either is NaN).
+pub fn increasing(a: f64, b: f64) -> bool {
+    matches!(b.partial_cmp(&a), Some(std::cmp::Ordering::Greater))
 }
 
 /// Allan analysis of one axis.
@@ -272,8 +296,14 @@ pub struct AxisAllan {
 /// Allan analysis of the six axes of a static IMU record at `rate_hz`
 /// (the sample spacing is assumed uniform; time stamps are checked to increase).
 pub fn allan_imu(samples: &[ImuSample], rate_hz: f64) -> Result<Vec<AxisAllan>> {
-    if let Some(i) = samples.windows(2).position(|w| !(w[1].t_s > w[0].t_s)) {
-        return Err(Error::new(ErrorKind::TimeNotIncreasing, format!("time does not increase after sample {i}")));
+    if let Some(i) = samples
+        .windows(2)
+        .position(|w| !increasing(w[0].t_s, w[1].t_s))
+    {
+        return Err(Error::new(
+            ErrorKind::TimeNotIncreasing,
+            format!("time does not increase after sample {i}"),
+        ));
     }
     let names = ["gyr_x", "gyr_y", "gyr_z", "acc_x", "acc_y", "acc_z"];
     names
@@ -282,7 +312,13 @@ pub fn allan_imu(samples: &[ImuSample], rate_hz: f64) -> Result<Vec<AxisAllan>> 
         .map(|(k, name)| {
             let y: Vec<f64> = samples
                 .iter()
-                .map(|s| if k < 3 { s.gyr_rad_s[k] } else { s.acc_m_s2[k - 3] })
+                .map(|s| {
+                    if k < 3 {
+                        s.gyr_rad_s[k]
+                    } else {
+                        s.acc_m_s2[k - 3]
+                    }
+                })
                 .collect();
             let points = allan_deviation(&y, rate_hz, 10)?;
             let terms = noise_terms(&points)?;
@@ -312,7 +348,10 @@ mod tests {
         for p in &pts {
             // σ(τ) = N/√τ within the stated bound
             let expect = 0.01 / p.tau_s.sqrt();
-            assert!(expect >= p.adev_lo * 0.98 && expect <= p.adev_hi * 1.02, "{p:?} {expect}");
+            assert!(
+                expect >= p.adev_lo * 0.98 && expect <= p.adev_hi * 1.02,
+                "{p:?} {expect}"
+            );
         }
         let mid = &pts[pts.len() / 2];
         assert!((mid.slope + 0.5).abs() < 0.15, "{mid:?}");
@@ -329,13 +368,21 @@ mod tests {
         let s = m.simulate(&Static::level(), 50.0, 4000.0, 5);
         let res = allan_imu(&s, 50.0).unwrap();
         for ax in &res {
-            let (n, k) = if ax.axis.starts_with("gyr") { (n, k) } else { (0.003, 0.0002) };
+            let (n, k) = if ax.axis.starts_with("gyr") {
+                (n, k)
+            } else {
+                (0.003, 0.0002)
+            };
             let w = ax.terms.white.unwrap();
             let r = ax.terms.random_walk.unwrap();
             assert!(w.contains(n), "{}: N {w:?} vs {n}", ax.axis);
             assert!(r.contains(k), "{}: K {r:?} vs {k}", ax.axis);
             // and the bounds are informative
-            assert!(w.hi / w.lo < 1.1 && r.hi / r.lo < 5.0, "{}: {w:?} {r:?}", ax.axis);
+            assert!(
+                w.hi / w.lo < 1.1 && r.hi / r.lo < 5.0,
+                "{}: {w:?} {r:?}",
+                ax.axis
+            );
         }
     }
 
@@ -346,14 +393,26 @@ mod tests {
         let s = m.simulate(&Static::level(), rate, 6.0 * 3600.0, 9);
         let res = allan_imu(&s, rate).unwrap();
         for ax in &res {
-            let e = if ax.axis.starts_with("gyr") { &m.gyro } else { &m.accel };
+            let e = if ax.axis.starts_with("gyr") {
+                &m.gyro
+            } else {
+                &m.accel
+            };
             // rate quantisation adds white noise LSB²/(12·f_s)
             let n_expect = (e.noise_density.powi(2) + e.lsb.powi(2) / (12.0 * rate)).sqrt();
             let w = ax.terms.white.unwrap();
             assert!(w.contains(n_expect), "{}: N {w:?} vs {n_expect}", ax.axis);
             let r = ax.terms.random_walk.unwrap();
-            assert!(r.contains(e.random_walk), "{}: K {r:?} vs {}", ax.axis, e.random_walk);
-            eprintln!("{}: N {w:?} (true {n_expect:.4e}); K {r:?} (true {:.4e})", ax.axis, e.random_walk);
+            assert!(
+                r.contains(e.random_walk),
+                "{}: K {r:?} vs {}",
+                ax.axis,
+                e.random_walk
+            );
+            eprintln!(
+                "{}: N {w:?} (true {n_expect:.4e}); K {r:?} (true {:.4e})",
+                ax.axis, e.random_walk
+            );
         }
     }
 
@@ -362,6 +421,9 @@ mod tests {
         assert!(allan_deviation(&[1.0; 5], 100.0, 10).is_err());
         let mut y = vec![0.0; 100];
         y[3] = f64::NAN;
-        assert_eq!(allan_deviation(&y, 100.0, 10).unwrap_err().kind, ErrorKind::InvalidInput);
+        assert_eq!(
+            allan_deviation(&y, 100.0, 10).unwrap_err().kind,
+            ErrorKind::InvalidInput
+        );
     }
 }

@@ -11,14 +11,20 @@
 //! (rad/s, rad/s²), `madgwick:beta=0.01` (rad/s).
 
 use crate::{Error, ErrorKind, Result};
-use clino_core::{Attitude, AttitudeFilter, ImuSample};
 use clino_core::filter::{Complementary, Integrator, Madgwick, Mahony, Poisson};
+use clino_core::{Attitude, AttitudeFilter, ImuSample};
 
 /// Builds a fresh, uninitialised filter.
 pub type FilterFactory = Box<dyn Fn() -> Box<dyn AttitudeFilter> + Send + Sync>;
 
 /// Filter names accepted by [`filter_factory`].
-pub const FILTER_NAMES: [&str; 5] = ["poisson", "poisson-rect", "complementary", "mahony", "madgwick"];
+pub const FILTER_NAMES: [&str; 5] = [
+    "poisson",
+    "poisson-rect",
+    "complementary",
+    "mahony",
+    "madgwick",
+];
 
 /// The best of the current filters on the test bench (see the testbench note):
 /// Mahony with k_p = 0.1 rad/s (a 10 s accelerometer time constant, which
@@ -26,7 +32,10 @@ pub const FILTER_NAMES: [&str; 5] = ["poisson", "poisson-rect", "complementary",
 pub const BEST_FILTER: &str = "mahony:kp=0.1,ki=0.0005";
 
 fn param(params: &[(String, f64)], key: &str, default: f64) -> f64 {
-    params.iter().find(|(k, _)| k == key).map_or(default, |(_, v)| *v)
+    params
+        .iter()
+        .find(|(k, _)| k == key)
+        .map_or(default, |(_, v)| *v)
 }
 
 /// Run a fresh filter from `factory` over `samples`, returning its attitude
@@ -55,15 +64,19 @@ pub fn filter_factory(spec: &str, rate_hz: f64) -> Result<FilterFactory> {
     };
     let mut params = Vec::new();
     for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let (k, v) = kv
-            .split_once('=')
-            .ok_or_else(|| bad(format!("filter '{spec}': parameter '{kv}' is not key=value")))?;
+        let (k, v) = kv.split_once('=').ok_or_else(|| {
+            bad(format!(
+                "filter '{spec}': parameter '{kv}' is not key=value"
+            ))
+        })?;
         let v: f64 = v
             .trim()
             .parse()
             .map_err(|_| bad(format!("filter '{spec}': '{v}' is not a number")))?;
         if !(v.is_finite() && v >= 0.0) {
-            return Err(bad(format!("filter '{spec}': {k} must be finite and non-negative")));
+            return Err(bad(format!(
+                "filter '{spec}': {k} must be finite and non-negative"
+            )));
         }
         params.push((k.trim().to_ascii_lowercase(), v));
     }
@@ -80,7 +93,10 @@ pub fn filter_factory(spec: &str, rate_hz: f64) -> Result<FilterFactory> {
         }
     };
     if let Some((k, _)) = params.iter().find(|(k, _)| !allowed.contains(&k.as_str())) {
-        return Err(bad(format!("filter '{name}' has no parameter '{k}' (has: {})", allowed.join(", "))));
+        return Err(bad(format!(
+            "filter '{name}' has no parameter '{k}' (has: {})",
+            allowed.join(", ")
+        )));
     }
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(bad(format!("sample rate {rate_hz} Hz")));
@@ -126,7 +142,10 @@ mod tests {
         }
         assert!(filter_factory(BEST_FILTER, 200.0).is_ok());
         assert!(filter_factory("mahony:kp=0.5", 100.0).is_ok());
-        assert_eq!(filter_factory("kalman", 100.0).err().unwrap().kind, ErrorKind::InvalidInput);
+        assert_eq!(
+            filter_factory("kalman", 100.0).err().unwrap().kind,
+            ErrorKind::InvalidInput
+        );
         assert!(filter_factory("mahony:beta=1", 100.0).is_err());
         assert!(filter_factory("mahony:kp=x", 100.0).is_err());
         assert!(filter_factory("complementary:tau=0", 100.0).is_err());

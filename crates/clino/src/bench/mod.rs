@@ -12,6 +12,7 @@
 //! * [`static_test`] — drift and noise of a filter at rest;
 //! * [`allan`] — overlapping Allan deviation and IEEE Std 952 noise terms;
 //! * [`filters`] — the filter chosen by name for every run;
+//! * [`plots`] — SVG/PNG plots of the results;
 //! * [`recording`] — lab recordings (CSV) for `analyze`, `static` and `allan`.
 //!
 //! ```
@@ -26,6 +27,7 @@ pub mod allan;
 pub mod conical;
 pub mod filters;
 pub mod orbit;
+pub mod plots;
 pub mod recording;
 pub mod sensitivity;
 pub mod sinefit;

@@ -36,9 +36,17 @@ pub struct OrbitPoint {
 
 /// Cross-coupling of a tilt record (aerospace roll and pitch, rad, at times
 /// `t_s`) under an orbit at `freq_hz`.
-pub fn cross_coupling(t_s: &[f64], roll_rad: &[f64], pitch_rad: &[f64], freq_hz: f64) -> Result<OrbitPoint> {
+pub fn cross_coupling(
+    t_s: &[f64],
+    roll_rad: &[f64],
+    pitch_rad: &[f64],
+    freq_hz: f64,
+) -> Result<OrbitPoint> {
     if roll_rad.len() != t_s.len() || pitch_rad.len() != t_s.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, "roll, pitch and time have different lengths"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "roll, pitch and time have different lengths",
+        ));
     }
     let fit = |y: &[f64]| fit3(t_s, y, freq_hz, 2).map(|f| f.peak_to_peak().to_degrees());
     Ok(OrbitPoint {
@@ -51,7 +59,11 @@ pub fn cross_coupling(t_s: &[f64], roll_rad: &[f64], pitch_rad: &[f64], freq_hz:
 }
 
 /// Cross-coupling from filter attitudes.
-pub fn cross_coupling_of_attitudes(t_s: &[f64], att: &[Attitude], freq_hz: f64) -> Result<OrbitPoint> {
+pub fn cross_coupling_of_attitudes(
+    t_s: &[f64],
+    att: &[Attitude],
+    freq_hz: f64,
+) -> Result<OrbitPoint> {
     let rp: Vec<RollPitch> = att.iter().map(RollPitch::from_attitude).collect();
     let roll: Vec<f64> = rp.iter().map(|r| r.roll).collect();
     let pitch: Vec<f64> = rp.iter().map(|r| r.pitch).collect();
@@ -85,6 +97,8 @@ pub struct OrbitConfig {
     pub min_window_s: f64,
     /// Fewest periods in the analysis window.
     pub min_periods: f64,
+    /// Run on a simulated servo platform (`None`: the sensor rides the exact orbit).
+    pub platform: Option<super::conical::PlatformSpec>,
 }
 
 impl OrbitConfig {
@@ -104,17 +118,24 @@ impl OrbitConfig {
             settle_s: 40.0,
             min_window_s: 20.0,
             min_periods: 4.0,
+            platform: None,
         }
     }
 }
 
 /// Run the simulated orbit test at every frequency of `cfg`; `progress(done, total)`
 /// is called after each frequency.
-pub fn run_orbit(cfg: &OrbitConfig, progress: &mut dyn FnMut(usize, usize)) -> Result<Vec<OrbitPoint>> {
+pub fn run_orbit(
+    cfg: &OrbitConfig,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<OrbitPoint>> {
     check_sweep(&cfg.freqs_hz, cfg.rate_hz)?;
     cfg.sensor.validate()?;
     if !(cfg.amplitude_m.is_finite() && cfg.amplitude_m >= 0.0) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("orbit amplitude {} m", cfg.amplitude_m)));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("orbit amplitude {} m", cfg.amplitude_m),
+        ));
     }
     let factory = filter_factory(&cfg.filter, cfg.rate_hz)?;
     let mut out = Vec::with_capacity(cfg.freqs_hz.len());
@@ -125,7 +146,9 @@ pub fn run_orbit(cfg: &OrbitConfig, progress: &mut dyn FnMut(usize, usize)) -> R
         let orbit = orbit.with_start(cfg.rest_s, ramp);
         let t0 = cfg.rest_s + ramp + cfg.settle_s;
         let win = window_s(f, cfg.min_window_s, cfg.min_periods);
-        let samples = cfg.sensor.simulate(&orbit, cfg.rate_hz, t0 + win, cfg.seed + i as u64);
+        let samples = cfg
+            .sensor
+            .simulate(&orbit, cfg.rate_hz, t0 + win, cfg.seed + i as u64);
         let att = run_filter(&factory, &samples, cfg.rate_hz);
         let (t, a): (Vec<f64>, Vec<Attitude>) = samples
             .iter()
@@ -156,7 +179,10 @@ mod tests {
         let g = clino_core::G0;
         // roll = atan2(f_y, f_z) with f = −a_n + g e_z: amplitude ≈ a/g for small a
         let expect_pp = 2.0 * (a / g).to_degrees();
-        assert!((p.roll_fit_pp_deg / expect_pp - 1.0).abs() < 0.05, "{p:?} vs {expect_pp}");
+        assert!(
+            (p.roll_fit_pp_deg / expect_pp - 1.0).abs() < 0.05,
+            "{p:?} vs {expect_pp}"
+        );
         assert!((p.pitch_fit_pp_deg / expect_pp - 1.0).abs() < 0.05, "{p:?}");
         assert!(p.roll_pp_deg >= p.roll_fit_pp_deg * 0.95);
     }

@@ -58,7 +58,10 @@ mod tests {
             let up = tr.specific_force(9.8);
             let q = QuatTilt::from_attitude(&tr.attitude);
             let z = ZxyTilt::from_attitude(&tr.attitude);
-            for (m, v) in mx.iter_mut().zip([tr.gyr_rad_s.x, up.y, q.x, z.sin_phi(), z.tan_theta()]) {
+            for (m, v) in mx
+                .iter_mut()
+                .zip([tr.gyr_rad_s.x, up.y, q.x, z.sin_phi(), z.tan_theta()])
+            {
                 *m = m.max(v.abs());
             }
         }

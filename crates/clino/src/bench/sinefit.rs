@@ -47,13 +47,26 @@ impl SineFit {
 
 fn check(t: &[f64], y: &[f64], trend_order: usize) -> Result<()> {
     if t.len() != y.len() {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("sine fit: {} times but {} values", t.len(), y.len())));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("sine fit: {} times but {} values", t.len(), y.len()),
+        ));
     }
     if t.len() < 4 + trend_order + 1 {
-        return Err(Error::new(ErrorKind::Empty, format!("sine fit: only {} samples", t.len())));
+        return Err(Error::new(
+            ErrorKind::Empty,
+            format!("sine fit: only {} samples", t.len()),
+        ));
     }
-    if let Some(i) = t.iter().zip(y).position(|(a, b)| !a.is_finite() || !b.is_finite()) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("sine fit: sample {i} is not finite")));
+    if let Some(i) = t
+        .iter()
+        .zip(y)
+        .position(|(a, b)| !a.is_finite() || !b.is_finite())
+    {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("sine fit: sample {i} is not finite"),
+        ));
     }
     Ok(())
 }
@@ -63,7 +76,10 @@ fn check(t: &[f64], y: &[f64], trend_order: usize) -> Result<()> {
 pub fn fit3(t: &[f64], y: &[f64], freq_hz: f64, trend_order: usize) -> Result<SineFit> {
     check(t, y, trend_order)?;
     if !(freq_hz.is_finite() && freq_hz > 0.0) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("sine fit: frequency {freq_hz} Hz")));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("sine fit: frequency {freq_hz} Hz"),
+        ));
     }
     let (sol, rms) = solve(t, y, freq_hz, trend_order, None)?;
     Ok(make(freq_hz, &sol, trend_order, rms, 0))
@@ -74,15 +90,28 @@ pub fn fit3(t: &[f64], y: &[f64], freq_hz: f64, trend_order: usize) -> Result<Si
 /// column ∂y/∂ω = t·(−A·sin ωt + B·cos ωt). Starts from `freq_guess_hz`, or
 /// when `None` from the zero-crossing rate of the detrended signal refined by a
 /// grid of three-parameter fits.
-pub fn fit4(t: &[f64], y: &[f64], freq_guess_hz: Option<f64>, trend_order: usize) -> Result<SineFit> {
+pub fn fit4(
+    t: &[f64],
+    y: &[f64],
+    freq_guess_hz: Option<f64>,
+    trend_order: usize,
+) -> Result<SineFit> {
     check(t, y, trend_order)?;
     let span = t[t.len() - 1] - t[0];
-    if !(span > 0.0) {
-        return Err(Error::new(ErrorKind::InvalidInput, "sine fit: time does not advance"));
+    if span.is_nan() || span <= 0.0 {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "sine fit: time does not advance",
+        ));
     }
     let f0 = match freq_guess_hz {
         Some(f) if f.is_finite() && f > 0.0 => f,
-        Some(f) => return Err(Error::new(ErrorKind::InvalidInput, format!("sine fit: frequency guess {f} Hz"))),
+        Some(f) => {
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!("sine fit: frequency guess {f} Hz"),
+            ));
+        }
         None => crossing_freq(t, y, trend_order, span)?,
     };
     let mut f = grid_refine(t, y, f0, trend_order, span)?;
@@ -96,12 +125,18 @@ pub fn fit4(t: &[f64], y: &[f64], freq_guess_hz: Option<f64>, trend_order: usize
         let df = dw / (2.0 * PI);
         f += df;
         if !(f > 0.0 && f.is_finite()) {
-            return Err(Error::new(ErrorKind::NotConverged, "four-parameter sine fit: frequency diverged"));
+            return Err(Error::new(
+                ErrorKind::NotConverged,
+                "four-parameter sine fit: frequency diverged",
+            ));
         }
         if df.abs() < 1e-12 * f.max(1.0) || it >= 50 {
             let (sol, rms) = solve(t, y, f, trend_order, None)?;
             if it >= 50 && df.abs() > 1e-6 * f {
-                return Err(Error::new(ErrorKind::NotConverged, "four-parameter sine fit did not converge"));
+                return Err(Error::new(
+                    ErrorKind::NotConverged,
+                    "four-parameter sine fit did not converge",
+                ));
             }
             return Ok(make(f, &sol, trend_order, rms, it));
         }
@@ -143,7 +178,13 @@ fn crossing_freq(t: &[f64], y: &[f64], trend_order: usize, span: f64) -> Result<
     let mut state = 0i8;
     let mut crossings = 0usize;
     for &v in r.iter() {
-        let s = if v > h { 1 } else if v < -h { -1 } else { 0 };
+        let s = if v > h {
+            1
+        } else if v < -h {
+            -1
+        } else {
+            0
+        };
         if s != 0 {
             if state != 0 && s != state {
                 crossings += 1;
@@ -152,13 +193,22 @@ fn crossing_freq(t: &[f64], y: &[f64], trend_order: usize, span: f64) -> Result<
         }
     }
     if crossings < 2 {
-        return Err(Error::new(ErrorKind::Degenerate, "four-parameter sine fit: fewer than one period in the record"));
+        return Err(Error::new(
+            ErrorKind::Degenerate,
+            "four-parameter sine fit: fewer than one period in the record",
+        ));
     }
     Ok(crossings as f64 / (2.0 * span))
 }
 
 /// Least squares on [cos, sin, τ^0…τ^p, (optional ∂/∂ω column)].
-fn solve(t: &[f64], y: &[f64], f: f64, p: usize, dw: Option<(f64, f64)>) -> Result<(DVector<f64>, f64)> {
+fn solve(
+    t: &[f64],
+    y: &[f64],
+    f: f64,
+    p: usize,
+    dw: Option<(f64, f64)>,
+) -> Result<(DVector<f64>, f64)> {
     let n = t.len();
     let w = 2.0 * PI * f;
     let (t0, t1) = (t[0], t[n - 1]);
@@ -205,7 +255,10 @@ fn make(f: f64, sol: &DVector<f64>, p: usize, rms: f64, iterations: usize) -> Si
 /// Peak-to-peak (max − min) of a series; 0 for an empty one. NaNs are an error.
 pub fn peak_to_peak(y: &[f64]) -> Result<f64> {
     if y.iter().any(|v| !v.is_finite()) {
-        return Err(Error::new(ErrorKind::InvalidInput, "peak-to-peak: non-finite value"));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "peak-to-peak: non-finite value",
+        ));
     }
     let mx = y.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let mn = y.iter().copied().fold(f64::INFINITY, f64::min);
@@ -224,7 +277,14 @@ mod tests {
         let t: Vec<f64> = (0..2000).map(|k| 3.0 + k as f64 * 0.01).collect();
         let y = t
             .iter()
-            .map(|&t| amp * (2.0 * PI * f * t + ph).sin() + 0.3 + 0.02 * t - 0.001 * t * t + if noise > 0.0 { nd.sample(&mut rng) } else { 0.0 })
+            .map(|&t| {
+                amp * (2.0 * PI * f * t + ph).sin() + 0.3 + 0.02 * t - 0.001 * t * t
+                    + if noise > 0.0 {
+                        nd.sample(&mut rng)
+                    } else {
+                        0.0
+                    }
+            })
             .collect();
         (t, y)
     }
@@ -257,7 +317,10 @@ mod tests {
         assert!(fit3(&[0.0, 1.0], &[0.0, 1.0], 1.0, 0).is_err());
         let (t, mut y) = signal(1.0, 1.0, 0.0, 0.0);
         y[7] = f64::NAN;
-        assert_eq!(fit3(&t, &y, 1.0, 1).unwrap_err().kind, ErrorKind::InvalidInput);
+        assert_eq!(
+            fit3(&t, &y, 1.0, 1).unwrap_err().kind,
+            ErrorKind::InvalidInput
+        );
         assert!(peak_to_peak(&[1.0, f64::NAN]).is_err());
         assert_eq!(peak_to_peak(&[1.0, -2.0, 0.5]).unwrap(), 3.0);
     }

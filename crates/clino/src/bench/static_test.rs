@@ -44,6 +44,9 @@ pub struct StaticResult {
     pub roll: AngleDrift,
     /// Aerospace pitch.
     pub pitch: AngleDrift,
+    /// The analysed tilt trace: (t_s, roll_deg, pitch_deg) per sample (not serialised).
+    #[serde(skip)]
+    pub trace: Vec<[f64; 3]>,
 }
 
 fn drift(t: &[f64], y_rad: &[f64]) -> AngleDrift {
@@ -78,13 +81,25 @@ fn drift(t: &[f64], y_rad: &[f64]) -> AngleDrift {
 /// samples; the first `settle_s` seconds are excluded from the statistics.
 pub fn static_test(samples: &[ImuSample], filter: &str, settle_s: f64) -> Result<StaticResult> {
     if samples.len() < 3 {
-        return Err(Error::new(ErrorKind::Empty, "static test: fewer than 3 samples"));
+        return Err(Error::new(
+            ErrorKind::Empty,
+            "static test: fewer than 3 samples",
+        ));
     }
     if let Some(i) = samples.iter().position(|s| !s.is_finite()) {
-        return Err(Error::new(ErrorKind::InvalidInput, format!("static test: sample {i} is not finite")));
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!("static test: sample {i} is not finite"),
+        ));
     }
-    if let Some(i) = samples.windows(2).position(|w| !(w[1].t_s > w[0].t_s)) {
-        return Err(Error::new(ErrorKind::TimeNotIncreasing, format!("time does not increase after sample {i}")));
+    if let Some(i) = samples
+        .windows(2)
+        .position(|w| !crate::bench::allan::increasing(w[0].t_s, w[1].t_s))
+    {
+        return Err(Error::new(
+            ErrorKind::TimeNotIncreasing,
+            format!("time does not increase after sample {i}"),
+        ));
     }
     let span = samples[samples.len() - 1].t_s - samples[0].t_s;
     let rate = (samples.len() - 1) as f64 / span;
@@ -101,7 +116,10 @@ pub fn static_test(samples: &[ImuSample], filter: &str, settle_s: f64) -> Result
         }
     }
     if t.len() < 3 {
-        return Err(Error::new(ErrorKind::Empty, "static test: the settling time leaves fewer than 3 samples"));
+        return Err(Error::new(
+            ErrorKind::Empty,
+            "static test: the settling time leaves fewer than 3 samples",
+        ));
     }
     Ok(StaticResult {
         filter: filter.to_string(),
@@ -109,11 +127,20 @@ pub fn static_test(samples: &[ImuSample], filter: &str, settle_s: f64) -> Result
         samples: t.len(),
         roll: drift(&t, &roll),
         pitch: drift(&t, &pitch),
+        trace: (0..t.len())
+            .map(|i| [t[i], roll[i].to_degrees(), pitch[i].to_degrees()])
+            .collect(),
     })
 }
 
 /// The paper's 10-minute static test on a simulated sensor lying level.
-pub fn simulate_static(sensor: &ImuModel, filter: &str, rate_hz: f64, duration_s: f64, seed: u64) -> Result<StaticResult> {
+pub fn simulate_static(
+    sensor: &ImuModel,
+    filter: &str,
+    rate_hz: f64,
+    duration_s: f64,
+    seed: u64,
+) -> Result<StaticResult> {
     sensor.validate()?;
     let s = sensor.simulate(&Static::level(), rate_hz, duration_s, seed);
     static_test(&s, filter, 10.0f64.min(duration_s / 10.0))
@@ -130,7 +157,10 @@ mod tests {
         m.gyro.bias = Vec3::new(1e-4, 0.0, 0.0);
         let r = simulate_static(&m, "poisson", 100.0, 600.0, 0).unwrap();
         // roll drifts at the bias rate about body x
-        assert!((r.roll.drift_rate_deg_s - 1e-4f64.to_degrees()).abs() < 1e-8, "{r:?}");
+        assert!(
+            (r.roll.drift_rate_deg_s - 1e-4f64.to_degrees()).abs() < 1e-8,
+            "{r:?}"
+        );
         assert!(r.pitch.drift_rate_deg_s.abs() < 1e-6);
         // the complementary filter holds it: steady offset b·τ, no drift
         let c = simulate_static(&m, "complementary", 100.0, 600.0, 0).unwrap();
@@ -142,7 +172,10 @@ mod tests {
         let s = ImuModel::ideal().simulate(&Static::level(), 10.0, 1.0, 0);
         let mut bad = s.clone();
         bad[4].t_s = bad[3].t_s;
-        assert_eq!(static_test(&bad, "mahony", 0.0).unwrap_err().kind, ErrorKind::TimeNotIncreasing);
+        assert_eq!(
+            static_test(&bad, "mahony", 0.0).unwrap_err().kind,
+            ErrorKind::TimeNotIncreasing
+        );
         assert!(static_test(&s, "unknown", 0.0).is_err());
         assert!(static_test(&s[..2], "mahony", 0.0).is_err());
     }

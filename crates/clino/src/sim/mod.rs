@@ -8,6 +8,7 @@
 //! * [`imu`] — the IMU error model, its presets (`ideal`, `mpu6050`,
 //!   `mpu6050-raw`) and the seeded simulator ([`ImuModel::simulate`],
 //!   [`ImuModel::stream`]);
+//! * [`platform`] — the actual (servo-filtered) motion of a platform, as a [`Motion`];
 //! * [`stewart`] — 6-UPS Stewart platform: geometry, inverse and forward
 //!   kinematics, servo legs.
 //!
@@ -25,6 +26,7 @@ use clino_core::{Attitude, Vec3};
 
 pub mod imu;
 pub mod motion;
+pub mod platform;
 pub mod stewart;
 
 pub use imu::{Bandwidth, ImuModel, ImuStream, TempProfile, TriadErrors};

@@ -195,7 +195,11 @@ impl Orbit {
 
     /// Default phases of [`Orbit::spatial`]: (0°, 120°, 240°), so that the three
     /// vibrations trace a genuinely spatial ellipse (the paper does not give its phases).
-    pub const DEFAULT_PHASES_RAD: [f64; 3] = [0.0, 2.0 * std::f64::consts::FRAC_PI_3, 4.0 * std::f64::consts::FRAC_PI_3];
+    pub const DEFAULT_PHASES_RAD: [f64; 3] = [
+        0.0,
+        2.0 * std::f64::consts::FRAC_PI_3,
+        4.0 * std::f64::consts::FRAC_PI_3,
+    ];
 
     /// Equal amplitude `amplitude_m` on x, y and z at `freq_hz`, phases
     /// [`Orbit::DEFAULT_PHASES_RAD`], level attitude.
@@ -324,11 +328,19 @@ mod tests {
             let (s, co) = (w * t).sin_cos();
             assert_relative_eq!(
                 tr.gyr_rad_s,
-                Vec3::new(-w * a.sin() * s, w * a.sin() * co, -2.0 * w * (a / 2.0).sin().powi(2)),
+                Vec3::new(
+                    -w * a.sin() * s,
+                    w * a.sin() * co,
+                    -2.0 * w * (a / 2.0).sin().powi(2)
+                ),
                 epsilon = 1e-12
             );
             let f_b = tr.specific_force(1.0);
-            assert_relative_eq!(f_b, Vec3::new(-a.sin() * s, a.sin() * co, a.cos()), epsilon = 1e-12);
+            assert_relative_eq!(
+                f_b,
+                Vec3::new(-a.sin() * s, a.sin() * co, a.cos()),
+                epsilon = 1e-12
+            );
         }
     }
 
@@ -350,13 +362,22 @@ mod tests {
         check_derivatives(&o);
         // inside the start ramp (0.5 … 1.5 s) and after it
         check_derivatives(&Orbit::spatial(0.02, 0.8).with_start(0.5, 1.0));
-        assert_eq!(Orbit::spatial(0.02, 0.8).with_start(0.5, 1.0).truth(0.3).pos_m, Vec3::zeros());
+        assert_eq!(
+            Orbit::spatial(0.02, 0.8)
+                .with_start(0.5, 1.0)
+                .truth(0.3)
+                .pos_m,
+            Vec3::zeros()
+        );
         let s = Sum {
             a: Conical::new(ConeAxis::Z, 10f64.to_radians(), 0.6),
             b: Conical::new(ConeAxis::X, 4f64.to_radians(), 1.7),
         };
         check_derivatives(&s);
-        let s2 = Sum { a: Conical::about_z(0.1, 1.0), b: o };
+        let s2 = Sum {
+            a: Conical::about_z(0.1, 1.0),
+            b: o,
+        };
         check_derivatives(&s2);
         assert_relative_eq!(s2.truth(0.3).pos_m, o.truth(0.3).pos_m, epsilon = 1e-15);
     }

@@ -1,0 +1,54 @@
+//! `clino survey`: inclination, azimuth, toolface, QC and trajectory from survey stations.
+
+use anyhow::Result;
+use clino::survey::{self, SurveyOptions};
+use std::path::PathBuf;
+
+/// Arguments of `clino survey`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Stations (CSV: md_m, acc_*_m_s2 and optionally mag_*_uT in the tool frame, z down the hole).
+    stations: PathBuf,
+    /// Magnetic declination added to the azimuth, deg.
+    #[arg(long, default_value_t = 0.0)]
+    declination_deg: f64,
+    /// Calibrate the readings first with this calibration file (accelerometer and magnetometer).
+    #[arg(long)]
+    calibration: Option<PathBuf>,
+    /// Apply the calibration outside its valid temperature range.
+    #[arg(long)]
+    extrapolate: bool,
+    /// Print the result as JSON (stations, roll_tests, trajectory).
+    #[arg(long)]
+    json: bool,
+}
+
+/// Run `clino survey`.
+pub fn run(a: Args) -> Result<()> {
+    let mut readings = survey::read_stations(&a.stations)?;
+    if let Some(p) = &a.calibration {
+        let mut cal = clino::calib::CalibrationFile::load(p)?;
+        cal.extrapolate = a.extrapolate;
+        survey::calibrate_readings(&mut readings, &cal).map_err(|e| e.in_file(&a.stations))?;
+    }
+    let report = survey::survey(
+        &readings,
+        &SurveyOptions {
+            declination_deg: a.declination_deg,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| {
+        if e.file.is_none() {
+            e.in_file(&a.stations)
+        } else {
+            e
+        }
+    })?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print!("{}", report.table());
+    }
+    Ok(())
+}

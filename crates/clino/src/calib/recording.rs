@@ -1,0 +1,388 @@
+//! The calibration recording: a CSV file read by header name.
+//!
+//! Columns (the `clino fuse` conventions; any order, extra columns kept):
+//!
+//! | column | unit | needed |
+//! |---|---|---|
+//! | `t_s` | s, strictly increasing | always |
+//! | `acc_x_m_s2`, `acc_y_m_s2`, `acc_z_m_s2` | m/s² (raw reading) | accelerometer calibration |
+//! | `gyr_x_rad_s`, `gyr_y_rad_s`, `gyr_z_rad_s` | rad/s (raw reading) | gyro calibration |
+//! | `mag_x_uT`, `mag_y_uT`, `mag_z_uT` | µT (raw reading) | magnetometer calibration |
+//! | `temp_c` | °C | temperature models (`mwd30`) |
+//! | `ref_inclination_deg` | deg, angle of the housing's z axis from up (empty while moving) | optional, makes the tilt of the triad observable |
+//! | `ref_gyr_x_rad_s`, `ref_gyr_y_rad_s`, `ref_gyr_z_rad_s` | rad/s, the rate table's rate in the housing frame | gyro rate-table calibration |
+//!
+//! A triad's three columns come together or not at all. Every error names the
+//! file, the 1-based line and the column.
+
+use crate::{Error, ErrorKind, Result};
+use clino_core::{ImuSample, Vec3};
+use std::path::{Path, PathBuf};
+
+/// Column names of the three triads, x, y, z.
+pub const ACC_COLS: [&str; 3] = ["acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"];
+/// Gyro column names.
+pub const GYR_COLS: [&str; 3] = ["gyr_x_rad_s", "gyr_y_rad_s", "gyr_z_rad_s"];
+/// Magnetometer column names.
+pub const MAG_COLS: [&str; 3] = ["mag_x_uT", "mag_y_uT", "mag_z_uT"];
+/// Rate-table reference rate column names.
+pub const REF_GYR_COLS: [&str; 3] = ["ref_gyr_x_rad_s", "ref_gyr_y_rad_s", "ref_gyr_z_rad_s"];
+
+/// A recording in memory: parsed columns plus the raw records (for rewriting).
+#[derive(Clone, Debug, Default)]
+pub struct Recording {
+    /// File it came from, if any.
+    pub path: Option<PathBuf>,
+    /// Header names in file order.
+    pub headers: Vec<String>,
+    /// Time stamps, s.
+    pub t_s: Vec<f64>,
+    /// Raw accelerometer readings, when the columns exist.
+    pub acc: Option<Vec<Vec3>>,
+    /// Raw gyro readings.
+    pub gyr: Option<Vec<Vec3>>,
+    /// Raw magnetometer readings.
+    pub mag: Option<Vec<Vec3>>,
+    /// Temperature, °C.
+    pub temp_c: Option<Vec<f64>>,
+    /// Reference inclination, deg (NaN where empty).
+    pub ref_inclination_deg: Option<Vec<f64>>,
+    /// Rate-table reference rate, rad/s.
+    pub ref_gyr: Option<Vec<Vec3>>,
+    /// 1-based file line of each row.
+    pub line: Vec<u64>,
+    /// The raw cells of each row, for writing the same columns back.
+    pub records: Vec<Vec<String>>,
+}
+
+fn col(headers: &[String], name: &str) -> Option<usize> {
+    headers.iter().position(|h| h.trim() == name)
+}
+
+impl Recording {
+    /// Read a recording from a CSV file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let file = std::fs::File::open(path)
+            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
+        let mut r = Self::from_reader(file)
+            .map_err(|e| if e.file.is_none() { e.in_file(path) } else { e })?;
+        r.path = Some(path.to_path_buf());
+        Ok(r)
+    }
+
+    /// Read a recording from any reader (CSV with a header row).
+    pub fn from_reader<R: std::io::Read>(rd: R) -> Result<Self> {
+        let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(rd);
+        let headers: Vec<String> = rdr
+            .headers()
+            .map_err(|e| Error::new(ErrorKind::Parse, format!("bad header: {e}")).at_line(1))?
+            .iter()
+            .map(|s| s.trim().to_string())
+            .collect();
+        let t = col(&headers, "t_s").ok_or_else(|| {
+            Error::new(
+                ErrorKind::MissingColumn,
+                "the recording needs a time column",
+            )
+            .at_column("t_s")
+        })?;
+        let triad = |names: [&str; 3]| -> Result<Option<[usize; 3]>> {
+            let idx: Vec<Option<usize>> = names.iter().map(|n| col(&headers, n)).collect();
+            match (idx[0], idx[1], idx[2]) {
+                (Some(a), Some(b), Some(c)) => Ok(Some([a, b, c])),
+                (None, None, None) => Ok(None),
+                _ => {
+                    let missing = names
+                        .iter()
+                        .zip(&idx)
+                        .find(|(_, i)| i.is_none())
+                        .map(|(n, _)| *n)
+                        .unwrap_or(names[0]);
+                    Err(Error::new(
+                        ErrorKind::MissingColumn,
+                        "a triad needs all three of its columns",
+                    )
+                    .at_column(missing)
+                    .at_line(1))
+                }
+            }
+        };
+        let acc_i = triad(ACC_COLS)?;
+        let gyr_i = triad(GYR_COLS)?;
+        let mag_i = triad(MAG_COLS)?;
+        let ref_gyr_i = triad(REF_GYR_COLS)?;
+        let temp_i = col(&headers, "temp_c");
+        let refinc_i = col(&headers, "ref_inclination_deg");
+
+        let mut out = Recording {
+            headers: headers.clone(),
+            acc: acc_i.map(|_| Vec::new()),
+            gyr: gyr_i.map(|_| Vec::new()),
+            mag: mag_i.map(|_| Vec::new()),
+            temp_c: temp_i.map(|_| Vec::new()),
+            ref_inclination_deg: refinc_i.map(|_| Vec::new()),
+            ref_gyr: ref_gyr_i.map(|_| Vec::new()),
+            ..Default::default()
+        };
+        let mut rec = csv::StringRecord::new();
+        loop {
+            match rdr.read_record(&mut rec) {
+                Ok(false) => break,
+                Ok(true) => {}
+                Err(e) => {
+                    let line = e.position().map(|p| p.line()).unwrap_or(0);
+                    return Err(
+                        Error::new(ErrorKind::Parse, format!("malformed row: {e}")).at_line(line)
+                    );
+                }
+            }
+            let line = rec.position().map(|p| p.line()).unwrap_or(0);
+            let num = |i: usize, allow_empty: bool| -> Result<f64> {
+                let s = rec.get(i).unwrap_or("").trim();
+                if s.is_empty() && allow_empty {
+                    return Ok(f64::NAN);
+                }
+                match s.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(v),
+                    _ => Err(
+                        Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
+                            .at_line(line)
+                            .at_column(headers[i].clone()),
+                    ),
+                }
+            };
+            let ts = num(t, false)?;
+            if let Some(&prev) = out.t_s.last()
+                && ts <= prev
+            {
+                return Err(Error::new(
+                    ErrorKind::TimeNotIncreasing,
+                    format!("time {ts} s does not increase (previous row {prev} s)"),
+                )
+                .at_line(line)
+                .at_column("t_s"));
+            }
+            out.t_s.push(ts);
+            let v3 = |ix: [usize; 3]| -> Result<Vec3> {
+                Ok(Vec3::new(
+                    num(ix[0], false)?,
+                    num(ix[1], false)?,
+                    num(ix[2], false)?,
+                ))
+            };
+            if let (Some(ix), Some(v)) = (acc_i, out.acc.as_mut()) {
+                v.push(v3(ix)?);
+            }
+            if let (Some(ix), Some(v)) = (gyr_i, out.gyr.as_mut()) {
+                v.push(v3(ix)?);
+            }
+            if let (Some(ix), Some(v)) = (mag_i, out.mag.as_mut()) {
+                v.push(v3(ix)?);
+            }
+            if let (Some(ix), Some(v)) = (ref_gyr_i, out.ref_gyr.as_mut()) {
+                v.push(v3(ix)?);
+            }
+            if let (Some(i), Some(v)) = (temp_i, out.temp_c.as_mut()) {
+                v.push(num(i, false)?);
+            }
+            if let (Some(i), Some(v)) = (refinc_i, out.ref_inclination_deg.as_mut()) {
+                let x = num(i, true)?;
+                if x.is_finite() && !(0.0..=180.0).contains(&x) {
+                    return Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!("inclination {x}° outside 0–180°"),
+                    )
+                    .at_line(line)
+                    .at_column("ref_inclination_deg"));
+                }
+                v.push(x);
+            }
+            out.line.push(line);
+            out.records
+                .push(rec.iter().map(|s| s.to_string()).collect());
+        }
+        if out.t_s.is_empty() {
+            return Err(Error::new(
+                ErrorKind::Empty,
+                "the recording has no data rows",
+            ));
+        }
+        Ok(out)
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.t_s.len()
+    }
+
+    /// True when there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.t_s.is_empty()
+    }
+
+    /// An error located in this recording's file.
+    pub fn error(&self, kind: ErrorKind, msg: impl Into<String>) -> Error {
+        let e = Error::new(kind, msg);
+        match &self.path {
+            Some(p) => e.in_file(p),
+            None => e,
+        }
+    }
+
+    /// Row `i` as an [`ImuSample`] (absent accelerometer or gyro columns read as zero).
+    pub fn sample(&self, i: usize) -> ImuSample {
+        let z = Vec3::zeros();
+        ImuSample {
+            t_s: self.t_s[i],
+            gyr_rad_s: self.gyr.as_ref().map(|v| v[i]).unwrap_or(z),
+            acc_m_s2: self.acc.as_ref().map(|v| v[i]).unwrap_or(z),
+            mag_ut: self.mag.as_ref().map(|v| v[i]),
+            temp_c: self.temp_c.as_ref().map(|v| v[i]),
+        }
+    }
+
+    /// Build a recording from samples (for simulated data); reference
+    /// inclinations optional.
+    pub fn from_samples(samples: &[ImuSample], ref_inclination_deg: Option<&[f64]>) -> Self {
+        let mut headers: Vec<String> = vec!["t_s".into()];
+        headers.extend(ACC_COLS.iter().map(|s| s.to_string()));
+        headers.extend(GYR_COLS.iter().map(|s| s.to_string()));
+        let has_mag = samples.iter().all(|s| s.mag_ut.is_some()) && !samples.is_empty();
+        let has_temp = samples.iter().all(|s| s.temp_c.is_some()) && !samples.is_empty();
+        if has_mag {
+            headers.extend(MAG_COLS.iter().map(|s| s.to_string()));
+        }
+        if has_temp {
+            headers.push("temp_c".into());
+        }
+        if ref_inclination_deg.is_some() {
+            headers.push("ref_inclination_deg".into());
+        }
+        let mut r = Recording {
+            headers,
+            t_s: samples.iter().map(|s| s.t_s).collect(),
+            acc: Some(samples.iter().map(|s| s.acc_m_s2).collect()),
+            gyr: Some(samples.iter().map(|s| s.gyr_rad_s).collect()),
+            mag: has_mag.then(|| {
+                samples
+                    .iter()
+                    .map(|s| s.mag_ut.unwrap_or_default())
+                    .collect()
+            }),
+            temp_c: has_temp.then(|| {
+                samples
+                    .iter()
+                    .map(|s| s.temp_c.unwrap_or(f64::NAN))
+                    .collect()
+            }),
+            ref_inclination_deg: ref_inclination_deg.map(|r| r.to_vec()),
+            line: (2..2 + samples.len() as u64).collect(),
+            ..Default::default()
+        };
+        r.records = (0..samples.len()).map(|i| r.row_cells(i)).collect();
+        r
+    }
+
+    fn row_cells(&self, i: usize) -> Vec<String> {
+        let s = self.sample(i);
+        let mut c = vec![format!("{}", s.t_s)];
+        c.extend((0..3).map(|k| format!("{}", s.acc_m_s2[k])));
+        c.extend((0..3).map(|k| format!("{}", s.gyr_rad_s[k])));
+        if let Some(m) = s.mag_ut {
+            c.extend((0..3).map(|k| format!("{}", m[k])));
+        }
+        if let Some(t) = s.temp_c {
+            c.push(format!("{t}"));
+        }
+        if let Some(r) = &self.ref_inclination_deg {
+            c.push(if r[i].is_finite() {
+                format!("{}", r[i])
+            } else {
+                String::new()
+            });
+        }
+        c
+    }
+
+    /// Write the recording as CSV with its original columns; the triad
+    /// columns hold the current values of `acc`, `gyr`, `mag`.
+    pub fn write_csv<W: std::io::Write>(&self, w: W) -> Result<()> {
+        let mut wr = csv::Writer::from_writer(w);
+        let io = |e: csv::Error| Error::new(ErrorKind::Io, e.to_string());
+        wr.write_record(&self.headers).map_err(io)?;
+        let idx = |names: [&str; 3]| names.map(|n| col(&self.headers, n));
+        let (ai, gi, mi) = (idx(ACC_COLS), idx(GYR_COLS), idx(MAG_COLS));
+        for (i, rec) in self.records.iter().enumerate() {
+            let mut cells = rec.clone();
+            let mut put = |ix: [Option<usize>; 3], v: Option<&Vec<Vec3>>| {
+                if let Some(v) = v {
+                    for k in 0..3 {
+                        if let Some(c) = ix[k]
+                            && c < cells.len()
+                        {
+                            cells[c] = format!("{}", v[i][k]);
+                        }
+                    }
+                }
+            };
+            put(ai, self.acc.as_ref());
+            put(gi, self.gyr.as_ref());
+            put(mi, self.mag.as_ref());
+            wr.write_record(&cells).map_err(io)?;
+        }
+        wr.flush()
+            .map_err(|e| Error::new(ErrorKind::Io, e.to_string()))?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_by_header_name_and_round_trips() {
+        let csv = "temp_c,t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,note,ref_inclination_deg\n\
+                   30,0.0,0.1,0.2,9.8,a,0\n31,0.1,0.1,0.2,9.7,b,\n";
+        let r = Recording::from_reader(csv.as_bytes()).unwrap();
+        assert_eq!(r.len(), 2);
+        assert_eq!(r.acc.as_ref().unwrap()[1], Vec3::new(0.1, 0.2, 9.7));
+        assert!(r.gyr.is_none());
+        assert_eq!(r.temp_c.as_ref().unwrap(), &vec![30.0, 31.0]);
+        assert!(r.ref_inclination_deg.as_ref().unwrap()[1].is_nan());
+        assert_eq!(r.line, vec![2, 3]);
+        let mut out = Vec::new();
+        r.write_csv(&mut out).unwrap();
+        let back = Recording::from_reader(out.as_slice()).unwrap();
+        assert_eq!(back.headers, r.headers);
+        assert_eq!(back.acc, r.acc);
+        assert_eq!(back.records[0][5], "a");
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let csv = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,1,2,3\n0.1,1,x,3\n";
+        let e = Recording::from_reader(csv.as_bytes()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Parse);
+        assert_eq!(e.line, Some(3));
+        assert_eq!(e.column.as_deref(), Some("acc_y_m_s2"));
+
+        let csv = "t_s,acc_x_m_s2,acc_z_m_s2\n0,1,3\n";
+        let e = Recording::from_reader(csv.as_bytes()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::MissingColumn);
+        assert_eq!(e.column.as_deref(), Some("acc_y_m_s2"));
+
+        let csv = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,1,2,3\n0,1,2,3\n";
+        let e = Recording::from_reader(csv.as_bytes()).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::TimeNotIncreasing);
+        assert_eq!(e.line, Some(3));
+
+        let e = Recording::from_reader("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n".as_bytes())
+            .unwrap_err();
+        assert_eq!(e.kind, ErrorKind::Empty);
+
+        let csv = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,1,2,NaN\n";
+        let e = Recording::from_reader(csv.as_bytes()).unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("acc_z_m_s2"));
+    }
+}
