@@ -128,11 +128,18 @@ pub fn score_reader<R: Read>(
             .at_column(col));
         }
     }
+    // Real-time filters stream; offline ones need the recording in memory,
+    // which is kept only when one of them is asked for.
     let mut fusers = configs.iter().map(Fuser::new).collect::<Result<Vec<_>>>()?;
     let mut rms = vec![Rms::default(); configs.len()];
+    let any_offline = configs.iter().any(|c| c.offline);
+    let mut rows = Vec::new();
     while let Some(row) = reader.next_row()? {
         let scored = row.movement == Some(true);
-        for (f, acc) in fusers.iter_mut().zip(rms.iter_mut()) {
+        for ((f, acc), c) in fusers.iter_mut().zip(rms.iter_mut()).zip(configs) {
+            if c.offline {
+                continue;
+            }
             f.step(&row);
             if scored && let Some(r) = row.ref_q {
                 // Before initialisation the estimate is the identity (level, heading 0).
@@ -140,18 +147,34 @@ pub fn score_reader<R: Read>(
                 acc.push(inclination_error(&q, &r));
             }
         }
+        if any_offline {
+            rows.push(row);
+        }
+    }
+    let mut dropouts: Vec<u64> = fusers.iter().map(|f| f.report().dropouts).collect();
+    for (i, c) in configs.iter().enumerate().filter(|(_, c)| c.offline) {
+        let qs = c.smooth_rows(&rows)?;
+        for (row, q) in rows.iter().zip(&qs) {
+            if row.movement == Some(true)
+                && let Some(r) = row.ref_q
+            {
+                rms[i].push(inclination_error(&q.unwrap_or_else(Attitude::identity), &r));
+            }
+        }
+        dropouts[i] = rows.iter().filter(|r| r.has_dropout()).count() as u64;
     }
     Ok(RecordingScore {
         file: reader.file().to_path_buf(),
         rows: reader.rows_read(),
-        scores: fusers
+        scores: configs
             .iter()
             .zip(&rms)
-            .map(|(f, r)| FilterScore {
-                filter: f.filter().name().to_string(),
+            .zip(&dropouts)
+            .map(|((c, r), d)| FilterScore {
+                filter: c.label(),
                 rmse_deg: r.value().to_degrees(),
                 scored: r.count(),
-                dropouts: f.report().dropouts,
+                dropouts: *d,
             })
             .collect(),
     })
@@ -212,7 +235,7 @@ pub fn evaluate(
 impl EvalTable {
     /// Assemble the table and its means.
     pub fn new(configs: &[FilterConfig], recordings: Vec<RecordingScore>) -> Self {
-        let filters: Vec<String> = configs.iter().map(|c| c.kind.name().to_string()).collect();
+        let filters: Vec<String> = configs.iter().map(|c| c.label()).collect();
         let mean_rmse_deg = (0..filters.len())
             .map(|j| {
                 let v: Vec<f64> = recordings

@@ -34,7 +34,10 @@
 use std::io::{Read, Write};
 use std::str::FromStr;
 
-use clino_core::filter::{Complementary, Integrator, Madgwick, Mahony, Poisson};
+use clino_core::compensate::Compensated;
+use clino_core::filter::{
+    Complementary, Dynamic, DynamicParams, Integrator, Madgwick, Mahony, Poisson,
+};
 use clino_core::tilt::{RollPitch, inclination};
 use clino_core::{Attitude, AttitudeFilter, Step, Vec3};
 use serde::Serialize;
@@ -55,15 +58,19 @@ pub enum FilterKind {
     Mahony,
     /// Madgwick's gradient-descent filter ([`Madgwick`]).
     Madgwick,
+    /// clino's dynamic inclinometer filter ([`Dynamic`]): bounded-velocity
+    /// tilt loop with gyro-bias, rest and rotation-rate adaptation.
+    Dynamic,
 }
 
 impl FilterKind {
     /// Every filter, in the order tables list them.
-    pub const ALL: [FilterKind; 4] = [
+    pub const ALL: [FilterKind; 5] = [
         FilterKind::Poisson,
         FilterKind::Complementary,
         FilterKind::Mahony,
         FilterKind::Madgwick,
+        FilterKind::Dynamic,
     ];
 
     /// The command-line name.
@@ -73,6 +80,7 @@ impl FilterKind {
             FilterKind::Complementary => "complementary",
             FilterKind::Mahony => "mahony",
             FilterKind::Madgwick => "madgwick",
+            FilterKind::Dynamic => "dynamic",
         }
     }
 
@@ -135,6 +143,9 @@ pub struct Gains {
     /// as in the MPU6050 + Arduino inclinometer).
     #[serde(skip)]
     pub integrator: Option<Integrator>,
+    /// Base loop bandwidth p₀ of the dynamic filter, rad/s (default 0.15;
+    /// see [`DynamicParams::bandwidth_rad_s`] for its meaning).
+    pub dynamic_bandwidth_rad_s: f64,
 }
 
 impl Default for Gains {
@@ -145,6 +156,7 @@ impl Default for Gains {
             mahony_ki: 0.02,
             madgwick_beta: 0.1,
             integrator: None,
+            dynamic_bandwidth_rad_s: DynamicParams::default().bandwidth_rad_s,
         }
     }
 }
@@ -156,12 +168,13 @@ pub struct FilterConfig {
     pub kind: FilterKind,
     /// Its gains.
     pub gains: Gains,
-    /// Lever arm of the sensor from the rotation centre, m, body frame, for
-    /// compensating tangential and centripetal acceleration before fusion.
-    /// Not implemented yet: [`FilterConfig::build`] refuses it.
+    /// Lever arm of the sensor from a point on the rotation axis, m, body
+    /// frame: tangential and centripetal acceleration are removed before
+    /// fusion ([`Compensated`]).
     pub lever_arm_m: Option<Vec3>,
-    /// Offline (forward–backward) smoothing. Not implemented yet:
-    /// [`FilterConfig::build`] refuses it.
+    /// Offline smoothing over the whole recording ([`crate::smooth`]); only
+    /// for the dynamic filter. A streaming [`Fuser`] runs the real-time filter;
+    /// [`fuse`] and [`crate::eval`] buffer the recording when this is set.
     pub offline: bool,
 }
 
@@ -182,23 +195,45 @@ impl FilterConfig {
         self
     }
 
-    /// Build the filter, checking the gains.
-    pub fn build(&self) -> Result<Box<dyn AttitudeFilter + Send>> {
-        if self.lever_arm_m.is_some() {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                "lever-arm compensation is not implemented yet in the fusion pipeline",
-            ));
-        }
+    /// The same filter with lever-arm compensation (m, body frame).
+    pub fn with_lever_arm(mut self, lever_arm_m: Option<Vec3>) -> Self {
+        self.lever_arm_m = lever_arm_m;
+        self
+    }
+
+    /// The same filter, smoothed offline over the whole recording.
+    pub fn with_offline(mut self, offline: bool) -> Self {
+        self.offline = offline;
+        self
+    }
+
+    /// The column label of this configuration in tables: the filter's name,
+    /// `+offline` when smoothed, `+lever` when compensated.
+    pub fn label(&self) -> String {
+        let mut s = self.kind.name().to_string();
         if self.offline {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                "offline smoothing is not implemented yet in the fusion pipeline",
-            ));
+            s.push_str("+offline");
         }
+        if self.lever_arm_m.is_some() {
+            s.push_str("+lever");
+        }
+        s
+    }
+
+    /// The dynamic filter's parameters for these gains.
+    pub fn dynamic_params(&self) -> DynamicParams {
+        DynamicParams {
+            bandwidth_rad_s: self.gains.dynamic_bandwidth_rad_s,
+            ..DynamicParams::default()
+        }
+    }
+
+    /// Check the gains, the lever arm and the stages.
+    pub fn validate(&self) -> Result<()> {
         let g = &self.gains;
-        let check = |name: &str, v: f64, max: f64| {
-            if v.is_finite() && (0.0..=max).contains(&v) {
+        let check = |name: &str, v: f64, min_exclusive: bool, max: f64| {
+            let lower_ok = if min_exclusive { v > 0.0 } else { v >= 0.0 };
+            if v.is_finite() && lower_ok && v <= max {
                 Ok(())
             } else {
                 Err(Error::new(
@@ -208,19 +243,102 @@ impl FilterConfig {
             }
         };
         // Every gain is checked, whichever filter is built: a bad flag is bad input.
-        check("k", g.complementary_k, 1.0)?;
-        check("kp", g.mahony_kp, f64::MAX)?;
-        check("ki", g.mahony_ki, f64::MAX)?;
-        check("beta", g.madgwick_beta, f64::MAX)?;
+        check("k", g.complementary_k, false, 1.0)?;
+        check("kp", g.mahony_kp, false, f64::MAX)?;
+        check("ki", g.mahony_ki, false, f64::MAX)?;
+        check("beta", g.madgwick_beta, false, f64::MAX)?;
+        check("bandwidth", g.dynamic_bandwidth_rad_s, true, 100.0)?;
+        if let Some(p) = self.lever_arm_m
+            && !p.iter().all(|v| v.is_finite())
+        {
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                "lever arm must be three finite numbers (m)",
+            ));
+        }
+        if self.offline && self.kind != FilterKind::Dynamic {
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                format!(
+                    "offline smoothing is available for the dynamic filter, not for {}",
+                    self.kind
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Build the real-time filter (with its lever-arm stage), checking the gains.
+    pub fn build(&self) -> Result<Box<dyn AttitudeFilter + Send>> {
+        self.validate()?;
+        let g = &self.gains;
+        fn wrap<F: AttitudeFilter + Send + 'static>(
+            f: F,
+            la: Option<Vec3>,
+        ) -> Box<dyn AttitudeFilter + Send> {
+            match la {
+                Some(p) => Box::new(Compensated::new(f, p)),
+                None => Box::new(f),
+            }
+        }
+        let la = self.lever_arm_m;
         Ok(match self.kind {
-            FilterKind::Poisson => Box::new(Poisson::new(g.integrator.unwrap_or_default())),
-            FilterKind::Complementary => Box::new(Complementary::with_integrator(
-                g.complementary_k,
-                g.integrator.unwrap_or(Integrator::Rectangle),
-            )),
-            FilterKind::Mahony => Box::new(Mahony::new(g.mahony_kp, g.mahony_ki)),
-            FilterKind::Madgwick => Box::new(Madgwick::new(g.madgwick_beta)),
+            FilterKind::Poisson => wrap(Poisson::new(g.integrator.unwrap_or_default()), la),
+            FilterKind::Complementary => wrap(
+                Complementary::with_integrator(
+                    g.complementary_k,
+                    g.integrator.unwrap_or(Integrator::Rectangle),
+                ),
+                la,
+            ),
+            FilterKind::Mahony => wrap(Mahony::new(g.mahony_kp, g.mahony_ki), la),
+            FilterKind::Madgwick => wrap(Madgwick::new(g.madgwick_beta), la),
+            FilterKind::Dynamic => wrap(Dynamic::new(self.dynamic_params()), la),
         })
+    }
+
+    /// Offline attitudes of a whole recording held in memory (dynamic filter,
+    /// [`crate::smooth::smooth`]): one per row; `None` for rows before the first
+    /// usable one. Dropout rows (NaN gyro or accelerometer) hold the attitude
+    /// of the row before; the smoother sees only usable rows, with time steps
+    /// spanning the gaps.
+    pub fn smooth_rows(&self, rows: &[ImuRow]) -> Result<Vec<Option<Attitude>>> {
+        self.validate()?;
+        let usable: Vec<usize> = (0..rows.len())
+            .filter(|&k| !rows[k].has_dropout())
+            .collect();
+        let mut gyr = Vec::with_capacity(usable.len());
+        let mut acc = Vec::with_capacity(usable.len());
+        let mut dt = Vec::with_capacity(usable.len());
+        for (j, &k) in usable.iter().enumerate() {
+            gyr.push(rows[k].sample.gyr_rad_s);
+            acc.push(rows[k].sample.acc_m_s2);
+            dt.push(if j == 0 {
+                // nominal period for the first sample (used only to initialise)
+                usable
+                    .get(1)
+                    .map_or(0.01, |&k1| rows[k1].sample.t_s - rows[k].sample.t_s)
+            } else {
+                rows[k].sample.t_s - rows[usable[j - 1]].sample.t_s
+            });
+        }
+        let opts = crate::smooth::SmoothOptions {
+            params: self.dynamic_params(),
+            lever_arm_m: self.lever_arm_m,
+            ..Default::default()
+        };
+        let q = crate::smooth::smooth(&gyr, &acc, &dt, &opts);
+        let mut out = vec![None; rows.len()];
+        let mut last = None;
+        let mut j = 0;
+        for (k, slot) in out.iter_mut().enumerate() {
+            if j < usable.len() && usable[j] == k {
+                last = q.get(j).copied();
+                j += 1;
+            }
+            *slot = last;
+        }
+        Ok(out)
     }
 }
 
@@ -272,10 +390,13 @@ pub struct FuseReport {
 }
 
 /// Options of a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FuseOptions {
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FuseOptions<'a> {
     /// Make a NaN gyro or accelerometer value an error (naming its line and column).
     pub strict: bool,
+    /// Calibrate every sample with this file before fusion (temperature from
+    /// the `temp_c` column where the model needs it).
+    pub calibration: Option<&'a crate::calib::CalibrationFile>,
 }
 
 /// Feeds the rows of one recording to one filter.
@@ -412,42 +533,103 @@ pub fn fuse_traced<R: Read, W: Write>(
     let mut out = CsvLineWriter::new(writer);
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     out.header(&FUSE_HEADER).map_err(io_err)?;
-    while let Some(row) = reader.next_row()? {
+    let calibrate = |reader: &ImuCsvReader<R>, row: &mut ImuRow| -> Result<()> {
+        if let Some(cal) = opts.calibration
+            && !row.has_dropout()
+        {
+            row.sample = cal.apply(&row.sample).map_err(|e| Error {
+                file: Some(reader.file().to_path_buf()),
+                line: Some(row.line),
+                ..e
+            })?;
+        }
+        Ok(())
+    };
+    if config.offline {
+        // the smoother needs the whole recording: rows are held in memory
+        let mut rows = Vec::new();
+        while let Some(mut row) = reader.next_row()? {
+            if row.has_dropout() && opts.strict {
+                return Err(dropout_error(reader, &row));
+            }
+            calibrate(reader, &mut row)?;
+            rows.push(row);
+        }
+        let qs = config.smooth_rows(&rows)?;
+        let mut report = FuseReport::default();
+        for (row, q) in rows.iter().zip(&qs) {
+            report.rows += 1;
+            let status = if row.has_dropout() {
+                report.dropouts += 1;
+                report.first_dropout_line.get_or_insert(row.line);
+                RowStatus::Dropout
+            } else if q.is_none() {
+                report.waiting += 1;
+                RowStatus::Waiting
+            } else {
+                report.fused += 1;
+                RowStatus::Fused
+            };
+            out.f64(row.sample.t_s);
+            write_attitude(&mut out, *q, row.sample.t_s, trace.as_deref_mut());
+            out.str(status.as_str());
+            out.end_row().map_err(io_err)?;
+        }
+        out.finish().map_err(io_err)?;
+        return Ok(report);
+    }
+    while let Some(mut row) = reader.next_row()? {
+        calibrate(reader, &mut row)?;
         let status = fuser.step(&row);
         if status == RowStatus::Dropout && opts.strict {
             return Err(dropout_error(reader, &row));
         }
         out.f64(row.sample.t_s);
-        match fuser.attitude() {
-            Some(q) => {
-                out.f64(q.w);
-                out.f64(q.i);
-                out.f64(q.j);
-                out.f64(q.k);
-                let rp = RollPitch::from_attitude(&q);
-                let deg = [
-                    rp.roll.to_degrees(),
-                    rp.pitch.to_degrees(),
-                    inclination(&q).to_degrees(),
-                ];
-                for d in deg {
-                    out.f64(d);
-                }
-                if let Some(t) = trace.as_deref_mut() {
-                    t.push(row.sample.t_s, deg);
-                }
-            }
-            None => {
-                for _ in 0..7 {
-                    out.f64(f64::NAN);
-                }
-            }
-        }
+        write_attitude(
+            &mut out,
+            fuser.attitude(),
+            row.sample.t_s,
+            trace.as_deref_mut(),
+        );
         out.str(status.as_str());
         out.end_row().map_err(io_err)?;
     }
     out.finish().map_err(io_err)?;
     Ok(*fuser.report())
+}
+
+/// Write the seven attitude columns (NaN before initialisation) and feed the trace.
+fn write_attitude<W: Write>(
+    out: &mut CsvLineWriter<W>,
+    q: Option<Attitude>,
+    t_s: f64,
+    trace: Option<&mut TiltTrace>,
+) {
+    match q {
+        Some(q) => {
+            out.f64(q.w);
+            out.f64(q.i);
+            out.f64(q.j);
+            out.f64(q.k);
+            let rp = RollPitch::from_attitude(&q);
+            let deg = [
+                rp.roll.to_degrees(),
+                rp.pitch.to_degrees(),
+                inclination(&q).to_degrees(),
+            ];
+            for d in deg {
+                out.f64(d);
+            }
+            if let Some(t) = trace {
+                t.push(t_s, deg);
+            }
+        }
+        None => {
+            for _ in 0..7 {
+                out.f64(f64::NAN);
+            }
+        }
+    }
 }
 
 /// A decimated record of roll, pitch and inclination (degrees) against time,
@@ -555,6 +737,10 @@ pub fn demo_summary() -> Result<String> {
             FilterKind::Complementary => format!("k = {} per sample", g.complementary_k),
             FilterKind::Mahony => format!("kp = {}, ki = {}", g.mahony_kp, g.mahony_ki),
             FilterKind::Madgwick => format!("beta = {} rad/s", g.madgwick_beta),
+            FilterKind::Dynamic => format!(
+                "bandwidth = {} rad/s (clino's own)",
+                g.dynamic_bandwidth_rad_s
+            ),
         };
         s.push_str(&format!(
             "  {:<14} {:>16.2} °  {}\n",
@@ -579,7 +765,10 @@ mod tests {
             &mut r,
             &mut out,
             &FilterConfig::new(kind),
-            &FuseOptions { strict },
+            &FuseOptions {
+                strict,
+                ..Default::default()
+            },
         )?;
         Ok((rep, String::from_utf8(out).unwrap()))
     }
@@ -595,18 +784,30 @@ mod tests {
             FilterKind::parse_list("mahony, madgwick,mahony").unwrap(),
             vec![FilterKind::Mahony, FilterKind::Madgwick]
         );
-        assert_eq!(FilterKind::parse_list("all").unwrap().len(), 4);
+        assert_eq!(FilterKind::parse_list("all").unwrap().len(), 5);
         assert!(FilterKind::parse_list(",").is_err());
     }
 
     #[test]
-    fn unimplemented_stages_and_bad_gains_are_refused() {
-        let mut c = FilterConfig::new(FilterKind::Mahony);
-        c.lever_arm_m = Some(Vec3::new(0.1, 0.0, 0.0));
-        assert!(c.build().err().unwrap().message.contains("lever-arm"));
-        let mut c = FilterConfig::new(FilterKind::Mahony);
-        c.offline = true;
+    fn stages_and_bad_gains_are_checked() {
+        let c =
+            FilterConfig::new(FilterKind::Mahony).with_lever_arm(Some(Vec3::new(0.1, 0.0, 0.0)));
+        assert!(c.build().is_ok());
+        assert_eq!(c.label(), "mahony+lever");
+        let c = FilterConfig::new(FilterKind::Mahony).with_lever_arm(Some(Vec3::new(
+            f64::NAN,
+            0.0,
+            0.0,
+        )));
+        assert!(c.build().err().unwrap().message.contains("lever arm"));
+        let c = FilterConfig::new(FilterKind::Mahony).with_offline(true);
         assert!(c.build().err().unwrap().message.contains("offline"));
+        let c = FilterConfig::new(FilterKind::Dynamic).with_offline(true);
+        assert!(c.build().is_ok());
+        assert_eq!(c.label(), "dynamic+offline");
+        let mut c = FilterConfig::new(FilterKind::Dynamic);
+        c.gains.dynamic_bandwidth_rad_s = 0.0;
+        assert!(c.build().is_err());
         let mut c = FilterConfig::new(FilterKind::Complementary);
         c.gains.complementary_k = 1.5;
         assert!(c.build().is_err());
@@ -615,6 +816,34 @@ mod tests {
         let mut c = FilterConfig::new(FilterKind::Madgwick);
         c.gains.madgwick_beta = -0.1;
         assert!(c.build().is_err());
+    }
+
+    #[test]
+    fn offline_writes_one_row_per_input_row_and_holds_through_dropouts() {
+        let r = 15f64.to_radians();
+        let (ay, az) = (9.81 * r.sin(), 9.81 * r.cos());
+        let mut text = String::from(HEAD);
+        for i in 0..400 {
+            let g = if i == 200 {
+                "nan".to_string()
+            } else {
+                "0".to_string()
+            };
+            text.push_str(&format!("{},{g},0,0,0,{ay},{az}\n", i as f64 * 0.01));
+        }
+        let mut rd =
+            ImuCsvReader::new(text.as_bytes(), "mem.csv", &ReadOptions::default()).unwrap();
+        let mut out = Vec::new();
+        let cfg = FilterConfig::new(FilterKind::Dynamic).with_offline(true);
+        let rep = fuse(&mut rd, &mut out, &cfg, &FuseOptions::default()).unwrap();
+        let out = String::from_utf8(out).unwrap();
+        assert_eq!(rep.rows, 400);
+        assert_eq!(rep.dropouts, 1);
+        assert_eq!(out.lines().count(), 401);
+        let last: Vec<&str> = out.lines().last().unwrap().split(',').collect();
+        let incl: f64 = last[7].parse().unwrap();
+        assert!((incl - 15.0).abs() < 1e-3, "{incl}");
+        assert!(out.lines().nth(201).unwrap().ends_with(",dropout"));
     }
 
     #[test]

@@ -30,11 +30,11 @@
 //! sample), unlike the streaming real-time path.
 
 use clino_core::compensate::Compensated;
+#[allow(unused_imports)]
+use clino_core::filter::DynamicParams as _;
 use clino_core::filter::{Dynamic, DynamicParams};
 use clino_core::tilt::up_in_body;
 use clino_core::{Attitude, AttitudeFilter, Vec3};
-#[allow(unused_imports)]
-use clino_core::filter::DynamicParams as _;
 use nalgebra::UnitQuaternion;
 
 /// Options of the offline smoother.
@@ -115,7 +115,13 @@ const CENTRED_HALF_WINDOW_S: f64 = 0.025;
 /// local polynomial fit, exact for quadratics, with no lag (which the
 /// real-time path cannot have) and a noise gain of about 0.06·σ/h for 15
 /// samples. The bias used for ω is `bias` (from a first pass).
-pub fn compensate_centred(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], lever_arm_m: &Vec3, bias: &Vec3) -> Vec<Vec3> {
+pub fn compensate_centred(
+    gyr: &[Vec3],
+    acc: &[Vec3],
+    dt: &[f64],
+    lever_arm_m: &Vec3,
+    bias: &Vec3,
+) -> Vec<Vec3> {
     let n = gyr.len();
     let mut t = Vec::with_capacity(n);
     let mut now = 0.0;
@@ -175,7 +181,11 @@ fn pass(
         }
         if reverse {
             // going from sample i+1 back to sample i undoes the rotation of interval i+1
-            let (g, h) = if i + 1 < n { (gyr[i + 1], dt[i + 1]) } else { (gyr[i], dt[i]) };
+            let (g, h) = if i + 1 < n {
+                (gyr[i + 1], dt[i + 1])
+            } else {
+                (gyr[i], dt[i])
+            };
             f.update(-g, acc[i], h);
         } else {
             f.update(gyr[i], acc[i], dt[i]);
@@ -238,7 +248,8 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
                 return *qf;
             }
             // turn the forward attitude (in the body) so that its up vector becomes the mean
-            let corr = UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
+            let corr =
+                UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
             qf * corr
         })
         .collect();
@@ -268,7 +279,13 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
 /// solved exactly by a Kalman filter and a Rauch–Tung–Striebel smoother
 /// (Rauch, Tung, Striebel, AIAA J. 3(8), 1965); the smoothed d is applied as
 /// the navigation-frame correction exp(δ) ⊗ q̂. O(n) time and memory.
-pub fn refine_bounded_motion(q: &[Attitude], acc: &[Vec3], dt: &[f64], b: &BoundedMotion, g: f64) -> Vec<Attitude> {
+pub fn refine_bounded_motion(
+    q: &[Attitude],
+    acc: &[Vec3],
+    dt: &[f64],
+    b: &BoundedMotion,
+    g: f64,
+) -> Vec<Attitude> {
     let n = q.len().min(acc.len()).min(dt.len());
     if n < 2 {
         return q.to_vec();
@@ -282,7 +299,11 @@ pub fn refine_bounded_motion(q: &[Attitude], acc: &[Vec3], dt: &[f64], b: &Bound
         let ok = f.iter().all(|v| v.is_finite());
         fe.push(if ok { f.x } else { 0.0 });
         fnn.push(if ok { f.y } else { 0.0 });
-        h.push(if dt[k].is_finite() && dt[k] > 0.0 { dt[k] } else { 0.0 });
+        h.push(if dt[k].is_finite() && dt[k] > 0.0 {
+            dt[k]
+        } else {
+            0.0
+        });
     }
     // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E)
     let d_n = rts_axis(&fe, &h, b, g);
@@ -403,17 +424,31 @@ mod tests {
         let rms = |e: &[Attitude]| {
             // scored after the machine's initial 10-s rest
             let skip = 2000;
-            let s: f64 = e.iter().zip(&q).skip(skip).map(|(x, y)| tilt_err(x, y).powi(2)).sum();
+            let s: f64 = e
+                .iter()
+                .zip(&q)
+                .skip(skip)
+                .map(|(x, y)| tilt_err(x, y).powi(2))
+                .sum();
             (s / (e.len() - skip) as f64).sqrt().to_degrees()
         };
         let (e_on, e_off) = (rms(&on), rms(&off));
         assert!(e_off < e_on, "offline {e_off}° vs online {e_on}°");
         // with the lever arm known, both become small
-        let opts_la = SmoothOptions { lever_arm_m: Some(SlewingPlatform::default().lever_arm_m), ..Default::default() };
+        let opts_la = SmoothOptions {
+            lever_arm_m: Some(SlewingPlatform::default().lever_arm_m),
+            ..Default::default()
+        };
         let e_off_la = rms(&smooth(&g, &a, &d, &opts_la));
-        assert!(e_off_la < 0.1 && e_off_la < e_off / 5.0, "compensated offline {e_off_la}°");
+        assert!(
+            e_off_la < 0.1 && e_off_la < e_off / 5.0,
+            "compensated offline {e_off_la}°"
+        );
         // up vectors of the output are unit and finite
-        assert!(off.iter().all(|x| (up_in_body(x).norm() - 1.0).abs() < 1e-9));
+        assert!(
+            off.iter()
+                .all(|x| (up_in_body(x).norm() - 1.0).abs() < 1e-9)
+        );
     }
 
     #[test]

@@ -57,6 +57,42 @@ pub struct GainArgs {
     /// Gyro integration step of poisson/complementary: exact (rotation vector) or rectangle (first order).
     #[arg(long, value_name = "exact|rectangle")]
     pub integrator: Option<String>,
+    /// Dynamic filter: base loop bandwidth, rad/s (1/bandwidth is the accelerometer's time constant in slow motion).
+    #[arg(long, value_name = "RAD_S", default_value_t = Gains::default().dynamic_bandwidth_rad_s)]
+    pub bandwidth: f64,
+}
+
+/// Pipeline stages around the filter, shared by `fuse` and `eval`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct StageArgs {
+    /// Lever arm of the sensor from a point on the rotation axis, metres, body frame: "X,Y,Z".
+    /// Tangential (dω/dt × r) and centripetal (ω × (ω × r)) acceleration are removed before fusion.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub lever_arm: Option<String>,
+    /// Smooth offline over the whole recording (forward–backward passes and a bounded-motion
+    /// refinement; dynamic filter only). Holds the recording in memory.
+    #[arg(long)]
+    pub offline: bool,
+}
+
+impl StageArgs {
+    /// The lever arm in metres, parsed from "X,Y,Z".
+    pub fn lever_arm(&self) -> anyhow::Result<Option<nalgebra::Vector3<f64>>> {
+        let Some(s) = &self.lever_arm else {
+            return Ok(None);
+        };
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                anyhow::anyhow!("--lever-arm wants three numbers in metres, \"X,Y,Z\", got '{s}'")
+            })?;
+        if v.len() != 3 || !v.iter().all(|x| x.is_finite()) {
+            anyhow::bail!("--lever-arm wants three finite numbers in metres, \"X,Y,Z\", got '{s}'");
+        }
+        Ok(Some(nalgebra::Vector3::new(v[0], v[1], v[2])))
+    }
 }
 
 impl GainArgs {
@@ -81,6 +117,7 @@ impl GainArgs {
             mahony_ki: self.ki,
             madgwick_beta: self.beta,
             integrator,
+            dynamic_bandwidth_rad_s: self.bandwidth,
         })
     }
 }

@@ -96,7 +96,11 @@ fn smoothstep(x: f64) -> (f64, f64, f64) {
 impl SlewingPlatform {
     /// The chassis attitude q_c.
     pub fn chassis(&self) -> Attitude {
-        UnitQuaternion::from_euler_angles(self.chassis_roll, self.chassis_pitch, self.chassis_heading)
+        UnitQuaternion::from_euler_angles(
+            self.chassis_roll,
+            self.chassis_pitch,
+            self.chassis_heading,
+        )
     }
 
     /// Inclination of the upper structure (= of the chassis), rad.
@@ -118,7 +122,12 @@ impl SlewingPlatform {
         if t <= 0.0 {
             return (0.0, 0.0, 0.0);
         }
-        let (tr, tc, td, w) = (self.ramp_s, self.cruise_s, self.dwell_s, self.max_rate_rad_s);
+        let (tr, tc, td, w) = (
+            self.ramp_s,
+            self.cruise_s,
+            self.dwell_s,
+            self.max_rate_rad_s,
+        );
         let move_len = 2.0 * tr + tc + td;
         let travel = w * (tr + tc); // angle of one move (a smooth-step ramp covers w·T/2)
         let k = (t / move_len).floor();
@@ -170,7 +179,8 @@ impl Motion for SlewingPlatform {
         let ez_b = qx.inverse_transform_vector(&Vector3::z());
         let gyr = ez_b * w + Vector3::new(nu_rate, 0.0, 0.0);
         // d/dt of ez_b·w: ez_b turns with −ν̇ about x: d(ez_b)/dt = ez_b × (ν̇ e_x)
-        let ang_acc = ez_b * w_dot + ez_b.cross(&Vector3::new(nu_rate, 0.0, 0.0)) * w
+        let ang_acc = ez_b * w_dot
+            + ez_b.cross(&Vector3::new(nu_rate, 0.0, 0.0)) * w
             + Vector3::new(nu_acc, 0.0, 0.0);
         // The upper structure is rigid and turns (slew and angular vibration) about the
         // reference point on the slew axis, so the sensor point at body lever arm p has
@@ -254,8 +264,14 @@ mod tests {
         for &t in &[10.5, 11.0, 13.0, 17.2] {
             let tr = m.truth(t);
             let f = tr.specific_force(clino_core::G0);
-            let la = clino_core::compensate::lever_arm_acceleration(&tr.gyr_rad_s, &tr.ang_acc_rad_s2, &m.lever_arm_m);
-            let g_b = tr.attitude.inverse_transform_vector(&Vector3::new(0.0, 0.0, clino_core::G0));
+            let la = clino_core::compensate::lever_arm_acceleration(
+                &tr.gyr_rad_s,
+                &tr.ang_acc_rad_s2,
+                &m.lever_arm_m,
+            );
+            let g_b = tr
+                .attitude
+                .inverse_transform_vector(&Vector3::new(0.0, 0.0, clino_core::G0));
             assert_relative_eq!(f, la + g_b, epsilon = 1e-9);
         }
     }
@@ -305,6 +321,9 @@ pub fn inclination_error(est: &Attitude, truth: &Attitude) -> f64 {
     2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()
 }
 
+/// A named filter constructor, as [`evaluate`] takes them.
+pub type FilterMaker<'a> = (&'a str, &'a dyn Fn() -> Box<dyn clino_core::AttitudeFilter>);
+
 /// Simulate `duration_s` of the machine through `model` at `rate_hz` (seed
 /// `seed`) and score each filter with and without compensation. Errors are
 /// scored after the initial rest (while the machine slews and dwells).
@@ -316,11 +335,13 @@ pub fn evaluate(
     rate_hz: f64,
     duration_s: f64,
     seed: u64,
-    filters: &[(&str, &dyn Fn() -> Box<dyn clino_core::AttitudeFilter>)],
+    filters: &[FilterMaker<'_>],
 ) -> Vec<SlewingScore> {
     use clino_core::compensate::Compensated;
     let samples = model.simulate(platform, rate_hz, duration_s, seed);
-    let truth: Vec<Attitude> = (0..samples.len()).map(|k| platform.truth(samples[k].t_s).attitude).collect();
+    let truth: Vec<Attitude> = (0..samples.len())
+        .map(|k| platform.truth(samples[k].t_s).attitude)
+        .collect();
     let dt = 1.0 / rate_hz;
     let score = |f: &mut dyn clino_core::AttitudeFilter| {
         let (mut s2, mut n, mut max) = (0.0, 0usize, 0.0f64);
@@ -364,7 +385,14 @@ mod eval_tests {
         let model = sensor();
         let dynamic = || Box::new(Dynamic::default()) as Box<dyn clino_core::AttitudeFilter>;
         let mahony = || Box::new(Mahony::default()) as Box<dyn clino_core::AttitudeFilter>;
-        let r = evaluate(&m, &model, 200.0, 100.0, 1, &[("dynamic", &dynamic), ("mahony", &mahony)]);
+        let r = evaluate(
+            &m,
+            &model,
+            200.0,
+            100.0,
+            1,
+            &[("dynamic", &dynamic), ("mahony", &mahony)],
+        );
         let (d, mh) = (&r[0], &r[1]);
         assert!(d.compensated_deg <= 0.1, "{d:?}");
         assert!(d.compensated_deg * 5.0 <= d.uncompensated_deg, "{d:?}");
@@ -384,7 +412,8 @@ pub fn demo_summary() -> crate::Result<String> {
     let dynamic = || Box::new(Dynamic::default()) as Box<dyn clino_core::AttitudeFilter>;
     let mahony = || Box::new(Mahony::default()) as Box<dyn clino_core::AttitudeFilter>;
     let madgwick = || Box::new(Madgwick::default()) as Box<dyn clino_core::AttitudeFilter>;
-    let complementary = || Box::new(Complementary::default()) as Box<dyn clino_core::AttitudeFilter>;
+    let complementary =
+        || Box::new(Complementary::default()) as Box<dyn clino_core::AttitudeFilter>;
     let scores = evaluate(
         &m,
         &model,
@@ -416,7 +445,10 @@ pub fn demo_summary() -> crate::Result<String> {
         m.vibration_hz,
         model.name
     );
-    let _ = writeln!(s, "  inclination RMSE       without compensation   with --lever-arm");
+    let _ = writeln!(
+        s,
+        "  inclination RMSE       without compensation   with --lever-arm"
+    );
     for sc in &scores {
         let _ = writeln!(
             s,
