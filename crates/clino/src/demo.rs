@@ -11,8 +11,44 @@ use crate::Result;
 /// "BROAD — A Benchmark for Robust Inertial Orientation Estimation", Data 6(7), 2021.
 pub const BROAD_EXCERPT: &str = include_str!("../data/broad_07_excerpt.csv");
 
-/// The whole demo text: every section, separated by blank lines.
+/// The demo's sections, in order: a title and the function that writes it.
+pub type Section = (&'static str, fn() -> Result<String>);
+
+/// Every section of the demo, in the order of the pipeline.
+pub const SECTIONS: [Section; 6] = [
+    (
+        "1. Dynamic inclination on real data",
+        crate::fusion::demo_summary,
+    ),
+    (
+        "2. Rotating platform: lever-arm compensation",
+        crate::sim::slewing::demo_summary,
+    ),
+    (
+        "3. Calibration of a poorly calibrated triad",
+        crate::calib::demo_summary,
+    ),
+    (
+        "4. Dynamic testing on a Stewart platform",
+        crate::bench::demo_summary,
+    ),
+    (
+        "5. Redundant six-axis accelerometer",
+        crate::redundancy::demo_summary,
+    ),
+    ("6. Drilling survey", crate::survey::demo_summary),
+];
+
+/// The whole demo text: every section under its title, separated by blank lines.
 pub fn summary() -> Result<String> {
-    let sections = [crate::fusion::demo_summary()?];
-    Ok(sections.join("\n"))
+    let mut out = String::new();
+    for (title, f) in SECTIONS {
+        out.push_str(&format!("── {title} ──\n"));
+        out.push_str(&f()?);
+        if !out.ends_with('\n') {
+            out.push('\n');
+        }
+        out.push('\n');
+    }
+    Ok(out)
 }
