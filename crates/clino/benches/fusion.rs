@@ -3,14 +3,16 @@
 //! `cargo bench -p clino --bench fusion`
 //!
 //! * `update/*`: one filter update per element (M samples/s = elements/s),
-//!   on the samples of a BROAD trial; ours and the `ahrs` crate's Madgwick and
-//!   Mahony (same gains) in the same run.
+//!   on the samples of a BROAD trial; ours (clino's `dynamic` with and without
+//!   lever-arm compensation included), the `ahrs` crate's Madgwick and Mahony
+//!   (same gains) and VQF (`vqf-rs`) in the same run. PyPI `vqf`'s batch
+//!   update is timed by `scripts/vqf_baseline.py`.
 //! * `fuse/*`: `clino::fusion::fuse` end to end, CSV text in memory → CSV
 //!   text to a sink; elements are rows.
 
 use std::hint::black_box;
 
-use clino::core::filter::{Complementary, Integrator, Madgwick, Mahony, Poisson};
+use clino::core::filter::{Complementary, Dynamic, Integrator, Madgwick, Mahony, Poisson};
 use clino::core::{AttitudeFilter, Vec3, tilt};
 use clino::fusion::{FilterConfig, FilterKind, FuseOptions, fuse};
 use clino::io::{ImuCsvReader, ReadOptions};
@@ -57,6 +59,31 @@ fn bench_update(c: &mut Criterion) {
     });
     g.bench_function("madgwick", |b| {
         b.iter(|| run_ours(Madgwick::new(0.1), black_box(&data), dt))
+    });
+    g.bench_function("dynamic", |b| {
+        b.iter(|| run_ours(Dynamic::default(), black_box(&data), dt))
+    });
+    g.bench_function("dynamic_lever_arm", |b| {
+        b.iter(|| {
+            run_ours(
+                clino::core::compensate::Compensated::new(
+                    Dynamic::default(),
+                    Vec3::new(0.5, 0.2, 0.1),
+                ),
+                black_box(&data),
+                dt,
+            )
+        })
+    });
+    // VQF (vqf-rs, the pure-Rust port of Laidig & Seel's filter), real time, 6-D
+    g.bench_function("vqf_rs", |b| {
+        b.iter(|| {
+            let mut v = vqf_rs::VQF::new(dt, None, None, None);
+            for (gy, ac) in black_box(&data) {
+                v.update([gy.x, gy.y, gy.z], [ac.x, ac.y, ac.z], None);
+            }
+            v.quat_6d().0
+        })
     });
     let q0 = tilt::attitude_from_up(&data[0].1).unwrap();
     g.bench_function("ahrs_mahony", |b| {
@@ -106,6 +133,16 @@ fn bench_fuse(c: &mut Criterion) {
             })
         });
     }
+    let offline = FilterConfig::new(FilterKind::Dynamic).with_offline(true);
+    g.bench_function("dynamic_offline", |b| {
+        b.iter(|| {
+            let mut r =
+                ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
+            fuse(&mut r, std::io::sink(), &offline, &FuseOptions::default())
+                .unwrap()
+                .rows
+        })
+    });
     g.bench_function("read_imu_only", |b| {
         b.iter(|| {
             let mut r =
