@@ -46,9 +46,9 @@ fn load(path: &PathBuf) -> clino::Result<Rec> {
 
 fn rmse(rec: &Rec, est: &[Attitude]) -> f64 {
     let (mut s, mut n) = (0.0, 0usize);
-    for k in 0..est.len() {
+    for (k, est) in est.iter().enumerate() {
         if let (true, Some(q)) = (rec.mov[k], rec.refq[k]) {
-            let e = inclination_error(&est[k], &q);
+            let e = inclination_error(est, &q);
             s += e * e;
             n += 1;
         }

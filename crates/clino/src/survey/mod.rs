@@ -231,6 +231,107 @@ impl SurveyReport {
     }
 }
 
+/// The `clino demo` section: a simulated build-and-hold well surveyed from
+/// tool readings (MPU-class noise), a 12-toolface roll test, and the trajectory.
+pub fn demo_summary() -> Result<String> {
+    use nalgebra::{Rotation3, Vector3};
+    use std::fmt::Write;
+    let g = clino_core::G0;
+    // Earth field: 50 µT, dip 60° (NED)
+    let (ht, dip) = (50.0, 60f64.to_radians());
+    let h_ned = Vector3::new(ht * dip.cos(), 0.0, ht * dip.sin());
+    // deterministic small noise (accelerometer 0.5 mg, magnetometer 0.05 µT)
+    let mut state: u64 = 0x5eed;
+    let mut noise = |s: f64| {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2.0 * s * 3f64.sqrt()
+    };
+    let reading = |md: f64, inc: f64, azi: f64, tf: f64, noise: &mut dyn FnMut(f64) -> f64| {
+        let c = Rotation3::from_axis_angle(&Vector3::z_axis(), azi.to_radians())
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), inc.to_radians())
+            * Rotation3::from_axis_angle(&Vector3::z_axis(), tf.to_radians());
+        let gt = c.inverse() * Vector3::new(0.0, 0.0, g);
+        let h = c.inverse() * h_ned;
+        let n = |s: f64, f: &mut dyn FnMut(f64) -> f64| Vector3::new(f(s), f(s), f(s));
+        StationReading {
+            md_m: md,
+            line: 0,
+            acc_m_s2: -gt + n(0.5e-3 * g, noise),
+            mag_ut: Some(h + n(0.05, noise)),
+            temp_c: None,
+        }
+    };
+    // truth: vertical to 300 m, build 3°/30 m to 30°, hold; azimuth 45°
+    let mut readings = Vec::new();
+    let mut truth = Vec::new();
+    for k in 0..=20 {
+        let md = 60.0 * k as f64;
+        let inc = ((md - 300.0).max(0.0) / 30.0 * 3.0).min(30.0);
+        let tf = 37.0 * k as f64 % 360.0;
+        readings.push(reading(md, inc, 45.0, tf, &mut noise));
+        truth.push((md, inc));
+    }
+    // roll test at 900 m: 12 toolfaces
+    for j in 0..12 {
+        readings.push(reading(900.0, 30.0, 45.0, 30.0 * j as f64, &mut noise));
+    }
+    readings.sort_by(|a, b| a.md_m.total_cmp(&b.md_m));
+    let rep = survey(&readings, &SurveyOptions::default())?;
+    let mut worst_inc: f64 = 0.0;
+    let mut worst_azi: f64 = 0.0;
+    for st in &rep.stations {
+        let inc_t = truth
+            .iter()
+            .find(|t| (t.0 - st.md_m).abs() < 1e-9)
+            .map_or(30.0, |t| t.1);
+        worst_inc = worst_inc.max((st.inclination_deg - inc_t).abs());
+        if inc_t > 5.0
+            && let Some(a) = st.azimuth_deg
+        {
+            worst_azi = worst_azi.max((a - 45.0).abs());
+        }
+    }
+    let last = rep.trajectory.last();
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "Build-and-hold well (vertical to 300 m, 3°/30 m to 30°, azimuth 45°), {} stations read by a tool\n\
+         with 0.5 mg accelerometer and 0.05 µT magnetometer noise (field 50 µT, dip 60°):",
+        rep.stations.len()
+    );
+    let _ = writeln!(
+        s,
+        "  largest inclination error {worst_inc:.3}°, azimuth error {worst_azi:.3}° (stations above 5°)"
+    );
+    for r in &rep.roll_tests {
+        let _ = writeln!(
+            s,
+            "  roll test at {:.0} m ({} toolfaces): Δinc {:.3}°, Δazi {:.3}°, ΔG_L {:.5} g → {}",
+            r.md_m,
+            r.n,
+            r.inclination_range_deg,
+            r.azimuth_range_deg.unwrap_or(f64::NAN),
+            r.g_total_range_g,
+            if r.pass { "pass" } else { "FAIL" }
+        );
+    }
+    if let Some(p) = last {
+        let max_dls = rep
+            .trajectory
+            .iter()
+            .map(|p| p.dls_deg_per_30m)
+            .fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "  minimum curvature: MD {:.0} m → TVD {:.1} m, north {:.1} m, east {:.1} m; largest DLS {:.2}°/30 m",
+            p.md_m, p.tvd_m, p.north_m, p.east_m, max_dls
+        );
+    }
+    Ok(s)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -388,105 +489,4 @@ mod tests {
         assert!(s.azimuth_deg.is_none() && s.dip_deg.is_none());
         assert!(s.gravity_toolface_deg.is_some());
     }
-}
-
-/// The `clino demo` section: a simulated build-and-hold well surveyed from
-/// tool readings (MPU-class noise), a 12-toolface roll test, and the trajectory.
-pub fn demo_summary() -> Result<String> {
-    use nalgebra::{Rotation3, Vector3};
-    use std::fmt::Write;
-    let g = clino_core::G0;
-    // Earth field: 50 µT, dip 60° (NED)
-    let (ht, dip) = (50.0, 60f64.to_radians());
-    let h_ned = Vector3::new(ht * dip.cos(), 0.0, ht * dip.sin());
-    // deterministic small noise (accelerometer 0.5 mg, magnetometer 0.05 µT)
-    let mut state: u64 = 0x5eed;
-    let mut noise = |s: f64| {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2.0 * s * 3f64.sqrt()
-    };
-    let reading = |md: f64, inc: f64, azi: f64, tf: f64, noise: &mut dyn FnMut(f64) -> f64| {
-        let c = Rotation3::from_axis_angle(&Vector3::z_axis(), azi.to_radians())
-            * Rotation3::from_axis_angle(&Vector3::y_axis(), inc.to_radians())
-            * Rotation3::from_axis_angle(&Vector3::z_axis(), tf.to_radians());
-        let gt = c.inverse() * Vector3::new(0.0, 0.0, g);
-        let h = c.inverse() * h_ned;
-        let n = |s: f64, f: &mut dyn FnMut(f64) -> f64| Vector3::new(f(s), f(s), f(s));
-        StationReading {
-            md_m: md,
-            line: 0,
-            acc_m_s2: -gt + n(0.5e-3 * g, noise),
-            mag_ut: Some(h + n(0.05, noise)),
-            temp_c: None,
-        }
-    };
-    // truth: vertical to 300 m, build 3°/30 m to 30°, hold; azimuth 45°
-    let mut readings = Vec::new();
-    let mut truth = Vec::new();
-    for k in 0..=20 {
-        let md = 60.0 * k as f64;
-        let inc = ((md - 300.0).max(0.0) / 30.0 * 3.0).min(30.0);
-        let tf = 37.0 * k as f64 % 360.0;
-        readings.push(reading(md, inc, 45.0, tf, &mut noise));
-        truth.push((md, inc));
-    }
-    // roll test at 900 m: 12 toolfaces
-    for j in 0..12 {
-        readings.push(reading(900.0, 30.0, 45.0, 30.0 * j as f64, &mut noise));
-    }
-    readings.sort_by(|a, b| a.md_m.total_cmp(&b.md_m));
-    let rep = survey(&readings, &SurveyOptions::default())?;
-    let mut worst_inc: f64 = 0.0;
-    let mut worst_azi: f64 = 0.0;
-    for st in &rep.stations {
-        let inc_t = truth
-            .iter()
-            .find(|t| (t.0 - st.md_m).abs() < 1e-9)
-            .map_or(30.0, |t| t.1);
-        worst_inc = worst_inc.max((st.inclination_deg - inc_t).abs());
-        if inc_t > 5.0
-            && let Some(a) = st.azimuth_deg
-        {
-            worst_azi = worst_azi.max((a - 45.0).abs());
-        }
-    }
-    let last = rep.trajectory.last();
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "Build-and-hold well (vertical to 300 m, 3°/30 m to 30°, azimuth 45°), {} stations read by a tool\n\
-         with 0.5 mg accelerometer and 0.05 µT magnetometer noise (field 50 µT, dip 60°):",
-        rep.stations.len()
-    );
-    let _ = writeln!(
-        s,
-        "  largest inclination error {worst_inc:.3}°, azimuth error {worst_azi:.3}° (stations above 5°)"
-    );
-    for r in &rep.roll_tests {
-        let _ = writeln!(
-            s,
-            "  roll test at {:.0} m ({} toolfaces): Δinc {:.3}°, Δazi {:.3}°, ΔG_L {:.5} g → {}",
-            r.md_m,
-            r.n,
-            r.inclination_range_deg,
-            r.azimuth_range_deg.unwrap_or(f64::NAN),
-            r.g_total_range_g,
-            if r.pass { "pass" } else { "FAIL" }
-        );
-    }
-    if let Some(p) = last {
-        let max_dls = rep
-            .trajectory
-            .iter()
-            .map(|p| p.dls_deg_per_30m)
-            .fold(0.0, f64::max);
-        let _ = writeln!(
-            s,
-            "  minimum curvature: MD {:.0} m → TVD {:.1} m, north {:.1} m, east {:.1} m; largest DLS {:.2}°/30 m",
-            p.md_m, p.tvd_m, p.north_m, p.east_m, max_dls
-        );
-    }
-    Ok(s)
 }
