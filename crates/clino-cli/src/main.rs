@@ -35,6 +35,14 @@ enum Command {
 }
 
 fn main() -> std::process::ExitCode {
+    // A closed output pipe (`clino eval … --json | head`) ends the process
+    // quietly, as for any Unix filter, instead of a write error or panic.
+    #[cfg(unix)]
+    // SAFETY: setting a signal disposition to its default at start-up, before
+    // any thread exists, has no preconditions.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(a) => cmd::demo::run(a),
