@@ -33,9 +33,13 @@ pub const FILTER_NAMES: [&str; 6] = [
     "dynamic",
 ];
 
-/// The best of the current filters on the test bench (see the testbench note):
-/// Mahony with k_p = 0.1 rad/s (a 10 s accelerometer time constant, which
-/// rejects the orbits' linear accelerations) and k_i = 5e-4 rad/s².
+/// The best of the current filters on the test bench (see the testbench and
+/// tb2 notes): Mahony with k_p = 0.1 rad/s (a 10 s accelerometer time
+/// constant, which rejects the orbits' linear accelerations) and
+/// k_i = 5e-4 rad/s². clino's `dynamic` filter at its defaults is not used
+/// here: its rest detector takes slow cones (≤ 0.15 Hz, 5°) and slow 20 mm
+/// orbits (≤ 0.7 Hz, zero rotation) for rest and then pulls the tilt to the
+/// accelerometer at 1 rad/s, which misses the cone and cross-coupling targets there.
 pub const BEST_FILTER: &str = "mahony:kp=0.1,ki=0.0005";
 
 /// Run a fresh filter from `factory` over `samples`, returning its attitude
