@@ -71,7 +71,7 @@ struct Common {
     /// Override the sensor bandwidth with a first-order low-pass at this cut-off, Hz.
     #[arg(long)]
     bandwidth_hz: Option<f64>,
-    /// Attitude filter, e.g. mahony, complementary:tau=10, madgwick:beta=0.01, poisson.
+    /// Attitude filter, e.g. mahony, complementary:tau=10, madgwick:beta=0.01, poisson, dynamic:bandwidth=0.15.
     #[arg(long, default_value = clino::bench::filters::BEST_FILTER)]
     filter: String,
     /// Sample rate, Hz.
