@@ -51,23 +51,27 @@
 //!   the rate at which scale-factor drift equals the design drift
 //!   (bias-level drift / scale-factor error ≈ 0.01 rad/s / 0.5 % = 2 rad/s).
 //!   The bias gain is not raised with it (scale-factor error is not bias).
-//! * **Rest.** When the rate and the specific force (low-passed at ≈ 2 Hz)
+//! * **Rest.** When the rate and the specific force (low-passed at ≈ 0.8 Hz)
 //!   have stayed within thresholds of their 0.5-s means, and the rate less
-//!   the bias under a threshold, for `rest_time_s`, the mount
-//!   is at rest: its velocity is zero and its specific force is gravity. The
-//!   tilt is then pulled straight to the accelerometer at
-//!   `rest_bandwidth_rad_s` (globally convergent, like Mahony's correction),
-//!   the velocity residual is drained, the bias is taken from the low-passed
-//!   gyro (time constant `rest_bias_tau_s`), and motion bias learning pauses.
-//!   This is the zero-velocity / zero-rate update of strapdown navigation.
+//!   the bias under a threshold, for `rest_time_s`, the mount does not turn:
+//!   the bias is taken from the low-passed gyro (a running mean at the first
+//!   rest, then time constant `rest_bias_tau_s`) and motion bias learning
+//!   pauses — the zero-rate update of strapdown navigation. The tilt loop
+//!   runs on unchanged: rest detection cannot tell a still mount from a slow,
+//!   small translation (a 20-mm orbit below 0.7 Hz passes every threshold),
+//!   and pulling the tilt to the accelerometer then would turn that
+//!   translation into tilt; a translation does not turn the gyro, so learning
+//!   the bias from it stays right.
 //! * **Start.** The attitude starts from the first valid accelerometer sample.
 //!   Over `start_time_s` the loop bandwidth falls linearly from
 //!   `start_bandwidth_rad_s` to p, and a direct pull to the accelerometer of
 //!   the same falling rate is added, so the error of that first sample
 //!   (vibration, motion) is averaged away within seconds; motion bias learning
-//!   waits until then (a large initial error is not a bias).
+//!   waits until then (a large initial error is not a bias). At the first
+//!   rest after power-on the same pull acts for `alignment_s` of rest (coarse
+//!   alignment), so any initial attitude converges as soon as the mount is still.
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
-//!   about 2 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
+//!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
 //!   metres per second squared at tens of hertz without moving the mount.
 //!
 //! Everything is continuous-time: the defaults mean the same thing at 50 Hz
@@ -98,7 +102,7 @@ pub struct DynamicParams {
     pub scale_rate_rad_s: f64,
     /// Rest threshold on |ω_f − ω̄| and on |ω_f − b|, rad/s, where ω_f is the rate
     /// low-passed at `vibration_tau_s` and ω̄ its 0.5-s mean. Default 2°/s
-    /// (MEMS noise after the 2-Hz low-pass is below 0.05°/s even at 1 kHz;
+    /// (MEMS noise after the low-pass is below 0.05°/s even at 1 kHz;
     /// hand tremor, walking and machine motion exceed 2°/s).
     pub rest_gyr_rad_s: f64,
     /// Rest threshold on |ω_f − b| until the bias has been learnt at rest
@@ -107,14 +111,12 @@ pub struct DynamicParams {
     /// is recognised whatever the initial bias.
     pub rest_gyr_initial_rad_s: f64,
     /// Rest threshold on |f_f − f̄|, m/s² (same filtering as the rate). Default
-    /// 0.5 m/s² (≈ 50 mg; MPU6050 noise after the low-pass is ≈ 0.01 m/s²).
+    /// 0.2 m/s² (≈ 20 mg): MPU6050 noise after the low-pass is ≈ 0.01 m/s² and
+    /// an engine's 1–3 m/s² at 20–50 Hz comes through at ≤ 0.1; a tilt
+    /// changing at 2.5°/s or a 5° cone at 0.1 Hz exceeds it.
     pub rest_acc_m_s2: f64,
     /// Time the thresholds must hold before rest is declared, s. Default 1.5 s.
     pub rest_time_s: f64,
-    /// Rate at which the tilt is pulled to the accelerometer at rest, rad/s.
-    /// Default 1 rad/s (1 s): averages accelerometer noise over a second while
-    /// converging from any initial error within seconds once the mount is still.
-    pub rest_bandwidth_rad_s: f64,
     /// Time constant of bias learning at rest once the bias is known, s.
     /// Default 3 s. Until that much rest has been seen the bias is the running
     /// mean of the still gyro, so a first rest of a few seconds suffices.
@@ -127,7 +129,9 @@ pub struct DynamicParams {
     /// rate magnitude |ω̄|, s. Default 0.5 s.
     pub lowpass_tau_s: f64,
     /// Time constant of the vibration low-pass applied before rest detection, s.
-    /// Default 0.08 s (≈ 2 Hz): engine and tool vibration does not count as motion.
+    /// Default 0.2 s (≈ 0.8 Hz): engine and tool vibration (tens of hertz,
+    /// metres per second squared) comes through 40× weaker and does not count
+    /// as motion; rest ends within ≈ 0.2 s of real motion.
     pub vibration_tau_s: f64,
     /// Largest gyro bias the filter will believe, rad/s (per axis). Default 20°/s.
     pub bias_max_rad_s: f64,
@@ -135,6 +139,12 @@ pub struct DynamicParams {
     pub start_bandwidth_rad_s: f64,
     /// Time over which the start-up bandwidth falls to p, s. Default 3 s.
     pub start_time_s: f64,
+    /// Coarse alignment: while at rest, until this much rest has been seen
+    /// since power-on, the tilt is also pulled to the accelerometer at
+    /// `start_bandwidth_rad_s`, s. Default 8 s (80° → 0.03°). Later rests only
+    /// teach the bias: a slow translation can pass for rest and must not be
+    /// turned into tilt.
+    pub alignment_s: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
     /// Learn the gyro bias (at rest and in motion). Default true; the offline
@@ -152,16 +162,16 @@ impl Default for DynamicParams {
             scale_rate_rad_s: 2.0,
             rest_gyr_rad_s: 2f64.to_radians(),
             rest_gyr_initial_rad_s: 20f64.to_radians(),
-            rest_acc_m_s2: 0.5,
+            rest_acc_m_s2: 0.2,
             rest_time_s: 1.5,
-            rest_bandwidth_rad_s: 1.0,
             rest_bias_tau_s: 3.0,
             bias_memory_s: 60.0,
             lowpass_tau_s: 0.5,
-            vibration_tau_s: 0.08,
+            vibration_tau_s: 0.2,
             bias_max_rad_s: 20f64.to_radians(),
             start_bandwidth_rad_s: 1.0,
             start_time_s: 3.0,
+            alignment_s: 8.0,
             gravity_m_s2: G0,
             learn_bias: true,
         }
@@ -317,11 +327,12 @@ impl Dynamic {
 
     /// Continue from a known, converged state (attitude and gyro bias), e.g.
     /// the end of another run over the same data: no accelerometer
-    /// initialisation and no start-up phase.
+    /// initialisation, no start-up phase, no coarse alignment.
     pub fn resume(&mut self, q: Attitude, bias: Vec3) {
         self.set_attitude(q);
         self.set_gyro_bias(bias);
         self.time = self.params.start_time_s;
+        self.rest_learnt_s = self.rest_learnt_s.max(self.params.alignment_s);
     }
 
     /// The current horizontal velocity residual (east, north), m/s.
@@ -439,37 +450,39 @@ impl AttitudeFilter for Dynamic {
         }
 
         let kc;
-        let mut kb_over_kt = 0.0;
-        if self.rest {
-            // At rest the specific force *is* gravity: pull the tilt straight to
-            // it (rate `rest_bandwidth_rad_s`, global convergence like Mahony's)
-            // and drain the velocity residual, which must be zero.
-            // (divided by g, not by |f|: linear in f, so vibration cannot rectify)
-            let decay = 1.0 - one_minus_exp_neg(p.rest_bandwidth_rad_s * 4.0 * dt);
-            self.vel[0] *= decay;
-            self.vel[1] *= decay;
-            let k = p.rest_bandwidth_rad_s * dt * self.inv.gravity;
-            kc = (k * fnn, -k * fe);
-        } else {
+        let kb_over_kt;
+        {
             // --- gains of the bounded-velocity loop
             let bw = self.bandwidth();
             let p0 = p.bandwidth_rad_s;
             let ku = p.velocity_damping * bw;
             let kt = p.tilt_gain * bw * bw;
-            kb_over_kt = p.bias_gain * p0 * p0 * self.inv.tilt_gain / bw;
+            // at rest the bias comes from the still gyro (below), not through the loop
+            kb_over_kt = if self.rest {
+                0.0
+            } else {
+                p.bias_gain * p0 * p0 * self.inv.tilt_gain / bw
+            };
             // --- velocity residual and tilt correction
             let decay = 1.0 - one_minus_exp_neg(ku * dt);
             self.vel[0] = (self.vel[0] + fe * dt) * decay;
             self.vel[1] = (self.vel[1] + fnn * dt) * decay;
             let k = kt * self.inv.gravity * dt;
             let (mut cx, mut cy) = (k * self.vel[1], -k * self.vel[0]);
+            // Start-up: also pull straight to the accelerometer, at a rate falling
+            // from `start_bandwidth_rad_s` to 0 over `start_time_s`; and at the
+            // first rest after power-on (coarse alignment, as an INS aligns on the
+            // ground) at the full rate until `alignment_s` of rest have been seen.
+            // (Divided by g, not |f|: linear in f, so vibration cannot rectify.)
+            let mut pull = 0.0;
             if self.time < p.start_time_s {
-                // start-up: also pull straight to the accelerometer, at a rate
-                // falling from `start_bandwidth_rad_s` to 0 over `start_time_s`
-                let ks = p.start_bandwidth_rad_s
-                    * (1.0 - self.time * self.inv.start_time)
-                    * dt
-                    * self.inv.gravity;
+                pull = p.start_bandwidth_rad_s * (1.0 - self.time * self.inv.start_time);
+            }
+            if self.rest && self.rest_learnt_s < p.alignment_s {
+                pull = p.start_bandwidth_rad_s;
+            }
+            if pull > 0.0 {
+                let ks = pull * dt * self.inv.gravity;
                 cx += ks * fnn;
                 cy -= ks * fe;
             }
@@ -718,13 +731,22 @@ mod tests {
         let f_b = up_in_body(&truth) * G0;
         let mut f = Dynamic::default();
         f.set_attitude(UnitQuaternion::from_euler_angles(1.3, -0.4, 0.5)); // ≈ 80° off
-        let mut t = 0.0;
-        while t < 10.0 {
+        let mut t: f64 = 0.0;
+        let mut at = [0.0f64; 3];
+        while t < 20.0 {
             f.update(Vector3::zeros(), f_b, 0.005);
             t += 0.005;
+            for (i, &mark) in [5.0, 10.0, 20.0].iter().enumerate() {
+                if (t - mark).abs() < 0.0025 {
+                    at[i] = tilt_err(&f.attitude(), &truth).to_degrees();
+                }
+            }
         }
-        let err = tilt_err(&f.attitude(), &truth).to_degrees();
-        assert!(err < 0.5, "after 10 s: {err}°");
+        // start-up pull, then the tilt loop: 80° → a few degrees in 5 s, ≈ 1° in 10 s, < 0.1° in 20 s
+        assert!(
+            at[0] < 10.0 && at[1] < 2.0 && at[2] < 0.1,
+            "after 5, 10, 20 s: {at:?}°"
+        );
     }
 
     #[test]

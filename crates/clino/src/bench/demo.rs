@@ -98,55 +98,36 @@ mod tests {
             }
         }
         // fitted cross-coupling below 0.2° p-p for 20 mm orbits, 0.1 … 0.8 Hz
-        let o = OrbitConfig::new(0.02, vec![0.1, 0.8], ImuModel::mpu6050(), BEST_FILTER);
+        let o = OrbitConfig::new(0.02, vec![0.1, 0.5, 0.8], ImuModel::mpu6050(), BEST_FILTER);
         for p in run_orbit(&o, &mut |_, _| {}).unwrap() {
             assert!(p.roll_fit_pp_deg < 0.2 && p.pitch_fit_pp_deg < 0.2, "{p:?}");
         }
     }
 
-    /// clino's `dynamic` filter at its defaults on `mpu6050` (200 Hz): the cone
-    /// target holds from 0.2 to 10 Hz and the orbit target at 0.8 Hz, where its
-    /// velocity loop works (8× below Mahony's coupling). Below 0.2 Hz (cone)
-    /// and 0.8 Hz (orbit) it fails; see the next test and the tb2 note.
+    /// The slow-gain Mahony (k_p = 0.1 rad/s, a 10-s accelerometer time
+    /// constant) also meets the targets: the bench can show that a tuned
+    /// classic filter passes too, and the targets are not tailored to `dynamic`.
     #[test]
-    fn dynamic_meets_the_targets_where_it_is_in_motion() {
+    fn slow_mahony_also_meets_the_targets() {
         let c = ConicalConfig::new(
             5f64.to_radians(),
-            vec![0.2, 3.15, 10.0],
+            vec![0.1, 10.0],
             ImuModel::mpu6050(),
-            "dynamic",
+            "mahony:kp=0.1,ki=0.0005",
         );
         for p in run_conical(&c, &mut |_, _| {}).unwrap() {
             for v in [p.tilt_x_db, p.tilt_y_db].map(Option::unwrap) {
                 assert!(v.abs() < 0.1, "{p:?}");
             }
         }
-        let o = OrbitConfig::new(0.02, vec![0.8], ImuModel::mpu6050(), "dynamic");
-        let p = &run_orbit(&o, &mut |_, _| {}).unwrap()[0];
-        assert!(
-            p.roll_fit_pp_deg < 0.05 && p.pitch_fit_pp_deg < 0.05,
-            "{p:?}"
+        let o = OrbitConfig::new(
+            0.02,
+            vec![0.5],
+            ImuModel::mpu6050(),
+            "mahony:kp=0.1,ki=0.0005",
         );
-    }
-
-    /// Why `dynamic` misses the orbit target from 0.2 to 0.7 Hz: a pure
-    /// translation (zero rate) whose specific force varies by less than the
-    /// rest threshold (0.5 m/s² after the 2-Hz low-pass, against the 0.5-s
-    /// mean) is taken for rest, and at rest the tilt is pulled to the
-    /// accelerometer at p_r = 1 rad/s. The tilt then follows the apparent
-    /// gravity through a first-order low-pass: fitted p-p
-    /// = 2·(a/g)/√(1 + (ω/p_r)²) with a = ω²·Ŝ.
-    #[test]
-    fn dynamic_takes_a_slow_orbit_for_rest() {
-        let f = 0.5;
-        let o = OrbitConfig::new(0.02, vec![f], ImuModel::mpu6050(), "dynamic");
-        let p = &run_orbit(&o, &mut |_, _| {}).unwrap()[0];
-        let w = 2.0 * std::f64::consts::PI * f;
-        let pr = clino_core::filter::DynamicParams::default().rest_bandwidth_rad_s;
-        let expect =
-            2.0 * (w * w * 0.02 / clino_core::G0).to_degrees() / (1.0 + (w / pr).powi(2)).sqrt();
-        for v in [p.roll_fit_pp_deg, p.pitch_fit_pp_deg] {
-            assert!((v / expect - 1.0).abs() < 0.05, "{p:?} vs {expect}");
+        for p in run_orbit(&o, &mut |_, _| {}).unwrap() {
+            assert!(p.roll_fit_pp_deg < 0.2 && p.pitch_fit_pp_deg < 0.2, "{p:?}");
         }
     }
 
