@@ -417,48 +417,43 @@ impl<R: Read> ImuCsvReader<R> {
                 "no time column: give the sample rate (--rate HZ)".to_string(),
             ));
         }
-        let mut gyr = [0; 3];
-        let mut acc = [0; 3];
-        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
-            let want = format!("gyr_{axis}_{}", opts.gyro_unit.suffix());
-            let bare = format!("gyr_{axis}");
-            gyr[k] = match self.find(&[&want, &bare]) {
-                Some(i) => i,
-                None => {
-                    let other = match opts.gyro_unit {
-                        GyroUnit::RadPerS => GyroUnit::DegPerS,
-                        GyroUnit::DegPerS => GyroUnit::RadPerS,
-                    };
-                    let alt = format!("gyr_{axis}_{}", other.suffix());
-                    let hint = if self.find(&[&alt]).is_some() {
-                        format!("the file has '{alt}': set the gyro unit to match it")
-                    } else {
-                        format!("or '{bare}'")
-                    };
-                    return Err(missing(&want, hint));
-                }
-            };
-        }
-        for (k, axis) in ["x", "y", "z"].iter().enumerate() {
-            let want = format!("acc_{axis}_{}", opts.accel_unit.suffix());
-            let bare = format!("acc_{axis}");
-            acc[k] = match self.find(&[&want, &bare]) {
-                Some(i) => i,
-                None => {
-                    let other = match opts.accel_unit {
-                        AccelUnit::MPerS2 => AccelUnit::G,
-                        AccelUnit::G => AccelUnit::MPerS2,
-                    };
-                    let alt = format!("acc_{axis}_{}", other.suffix());
-                    let hint = if self.find(&[&alt]).is_some() {
-                        format!("the file has '{alt}': set the accelerometer unit to match it")
-                    } else {
-                        format!("or '{bare}'")
-                    };
-                    return Err(missing(&want, hint));
-                }
-            };
-        }
+        // one triad's columns: `{prefix}_{axis}_{unit}` or bare `{prefix}_{axis}`; when
+        // missing, say whether the file has the other unit's column
+        let triad = |prefix: &str, unit: &str, other: &str, what: &str| -> Result<[usize; 3]> {
+            let mut cols = [0; 3];
+            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                let want = format!("{prefix}_{axis}_{unit}");
+                let bare = format!("{prefix}_{axis}");
+                cols[k] = match self.find(&[&want, &bare]) {
+                    Some(i) => i,
+                    None => {
+                        let alt = format!("{prefix}_{axis}_{other}");
+                        let hint = if self.find(&[&alt]).is_some() {
+                            format!("the file has '{alt}': set the {what} unit to match it")
+                        } else {
+                            format!("or '{bare}'")
+                        };
+                        return Err(missing(&want, hint));
+                    }
+                };
+            }
+            Ok(cols)
+        };
+        let other_gyro = match opts.gyro_unit {
+            GyroUnit::RadPerS => GyroUnit::DegPerS,
+            GyroUnit::DegPerS => GyroUnit::RadPerS,
+        };
+        let other_accel = match opts.accel_unit {
+            AccelUnit::MPerS2 => AccelUnit::G,
+            AccelUnit::G => AccelUnit::MPerS2,
+        };
+        let gyr = triad("gyr", opts.gyro_unit.suffix(), other_gyro.suffix(), "gyro")?;
+        let acc = triad(
+            "acc",
+            opts.accel_unit.suffix(),
+            other_accel.suffix(),
+            "accelerometer",
+        )?;
         let mag = match (
             self.find(&["mag_x_uT"]),
             self.find(&["mag_y_uT"]),
