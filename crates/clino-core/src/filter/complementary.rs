@@ -1,7 +1,7 @@
 //! The complementary filter of the MPU6050 + Arduino inclinometer.
 
 use super::poisson::dcm_to_attitude;
-use super::{AttitudeFilter, Integrator, Poisson, Step, finite3, good_dt, init_from_acc};
+use super::{Admit, AttitudeFilter, Integrator, Poisson, Step, admit};
 use crate::math::{ln, sqrt};
 use crate::{Attitude, Vec3};
 use nalgebra::Matrix3;
@@ -106,17 +106,14 @@ impl AttitudeFilter for Complementary {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
-        if !(finite3(&gyr) && finite3(&acc) && good_dt(dt)) {
-            return Step::Rejected;
-        }
-        if !self.gyro.is_initialised() {
-            return match init_from_acc(&acc) {
-                Some(q) => {
-                    self.gyro = Poisson::with_attitude(self.gyro.integrator, &q);
-                    Step::Initialised
-                }
-                None => Step::Waiting,
-            };
+        match admit(&gyr, &acc, dt, self.gyro.is_initialised()) {
+            Admit::Run => {}
+            Admit::Init(q) => {
+                self.gyro = Poisson::with_attitude(self.gyro.integrator, &q);
+                return Step::Initialised;
+            }
+            Admit::Reject => return Step::Rejected,
+            Admit::Wait => return Step::Waiting,
         }
         self.gyro.step_raw(gyr * dt);
         let c = *self.gyro.dcm();

@@ -78,7 +78,7 @@
 //! and at 1 kHz. Nothing allocates, nothing can panic; a non-finite sample is
 //! rejected without touching the state.
 
-use super::{AttitudeFilter, Step, finite3, good_dt, init_from_acc};
+use super::{Admit, AttitudeFilter, Step, admit, finite3};
 use crate::math::{cos, exp, sin, sqrt};
 use crate::{Attitude, G0, Vec3};
 use nalgebra::Quaternion;
@@ -357,23 +357,20 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
-        if !(finite3(&gyr) && finite3(&acc) && good_dt(dt)) {
-            return Step::Rejected;
-        }
-        if !self.initialised {
-            return match init_from_acc(&acc) {
-                Some(q) => {
-                    self.q = q;
-                    self.gyr_lp = gyr;
-                    self.acc_lp = acc;
-                    self.gyr_f = gyr;
-                    self.acc_f = acc;
-                    self.initialised = true;
-                    self.time = 0.0;
-                    Step::Initialised
-                }
-                None => Step::Waiting,
-            };
+        match admit(&gyr, &acc, dt, self.initialised) {
+            Admit::Run => {}
+            Admit::Init(q) => {
+                self.q = q;
+                self.gyr_lp = gyr;
+                self.acc_lp = acc;
+                self.gyr_f = gyr;
+                self.acc_f = acc;
+                self.initialised = true;
+                self.time = 0.0;
+                return Step::Initialised;
+            }
+            Admit::Reject => return Step::Rejected,
+            Admit::Wait => return Step::Waiting,
         }
         let p = self.params;
         self.time += dt;

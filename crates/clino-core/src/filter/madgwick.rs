@@ -1,6 +1,6 @@
 //! Madgwick's gradient-descent orientation filter (6-D).
 
-use super::{AttitudeFilter, Step, finite3, good_dt, init_from_acc, renormalise};
+use super::{Admit, AttitudeFilter, Step, admit, renormalise};
 use crate::math::sqrt;
 use crate::{Attitude, Vec3};
 use nalgebra::Quaternion;
@@ -57,17 +57,14 @@ impl AttitudeFilter for Madgwick {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
-        if !(finite3(&gyr) && finite3(&acc) && good_dt(dt)) {
-            return Step::Rejected;
-        }
-        if !self.initialised {
-            return match init_from_acc(&acc) {
-                Some(q) => {
-                    self.set_attitude(q);
-                    Step::Initialised
-                }
-                None => Step::Waiting,
-            };
+        match admit(&gyr, &acc, dt, self.initialised) {
+            Admit::Run => {}
+            Admit::Init(q) => {
+                self.set_attitude(q);
+                return Step::Initialised;
+            }
+            Admit::Reject => return Step::Rejected,
+            Admit::Wait => return Step::Waiting,
         }
         let q = self.q.quaternion();
         let mut qdot = q * Quaternion::new(0.0, gyr.x, gyr.y, gyr.z) * 0.5;

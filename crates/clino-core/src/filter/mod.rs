@@ -147,9 +147,32 @@ pub fn skew(v: &Vec3) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Initial attitude from one accelerometer reading (heading zero), or `None`
-/// when the reading is not finite or is zero.
-#[inline]
-pub(crate) fn init_from_acc(acc: &Vec3) -> Option<Attitude> {
-    crate::tilt::attitude_from_up(acc)
+/// What the common contract of [`AttitudeFilter`] says about one sample,
+/// before a filter's own work: reject it, wait for a usable accelerometer,
+/// initialise from it, or run.
+pub(crate) enum Admit {
+    /// Non-finite value or bad dt: [`Step::Rejected`], state untouched.
+    Reject,
+    /// Not initialised and the accelerometer cannot initialise: [`Step::Waiting`].
+    Wait,
+    /// Not initialised: start from this attitude (tilt from gravity, heading zero).
+    Init(Attitude),
+    /// Initialised and usable: the filter's update runs.
+    Run,
+}
+
+/// The gate every filter's `update` starts with (one place for the contract
+/// in the module docs).
+#[inline(always)]
+pub(crate) fn admit(gyr: &Vec3, acc: &Vec3, dt: f64, initialised: bool) -> Admit {
+    if !(finite3(gyr) && finite3(acc) && good_dt(dt)) {
+        Admit::Reject
+    } else if initialised {
+        Admit::Run
+    } else {
+        match crate::tilt::attitude_from_up(acc) {
+            Some(q) => Admit::Init(q),
+            None => Admit::Wait,
+        }
+    }
 }

@@ -1,6 +1,6 @@
 //! Strapdown integration of the Poisson equation on the direction-cosine matrix.
 
-use super::{AttitudeFilter, Step, finite3, good_dt, init_from_acc, skew};
+use super::{Admit, AttitudeFilter, Step, admit, skew};
 use crate::math::{cos, sin, sqrt};
 use crate::{Attitude, Vec3};
 use nalgebra::{Matrix3, Rotation3};
@@ -143,18 +143,15 @@ impl AttitudeFilter for Poisson {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
-        if !(finite3(&gyr) && finite3(&acc) && good_dt(dt)) {
-            return Step::Rejected;
-        }
-        if !self.initialised {
-            return match init_from_acc(&acc) {
-                Some(q) => {
-                    self.c = *q.to_rotation_matrix().matrix();
-                    self.initialised = true;
-                    Step::Initialised
-                }
-                None => Step::Waiting,
-            };
+        match admit(&gyr, &acc, dt, self.initialised) {
+            Admit::Run => {}
+            Admit::Init(q) => {
+                self.c = *q.to_rotation_matrix().matrix();
+                self.initialised = true;
+                return Step::Initialised;
+            }
+            Admit::Reject => return Step::Rejected,
+            Admit::Wait => return Step::Waiting,
         }
         self.step(gyr * dt);
         Step::GyroOnly
