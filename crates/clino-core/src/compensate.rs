@@ -184,6 +184,46 @@ impl Differentiator {
     }
 }
 
+/// The lever-arm stage on its own: a sensor at `r_m` from a point on the
+/// rotation axis, and the differentiator that gives ω̇.
+///
+/// Each call, ω = ω_meas − b̂ (the filter's bias estimate), ω̇ from the
+/// [`Differentiator`], and the specific force f − ω̇ × r − ω × (ω × r) is
+/// returned ([`lever_arm_acceleration`]).
+#[derive(Clone, Debug)]
+pub struct LeverArm {
+    /// The lever arm, m, body frame.
+    pub r_m: Vec3,
+    diff: Differentiator,
+}
+
+impl LeverArm {
+    /// The stage for lever arm `r_m` (m, body frame) with the default differentiator.
+    pub fn new(r_m: Vec3) -> Self {
+        Self::with_differentiator(r_m, Differentiator::default())
+    }
+
+    /// The stage with a chosen differentiator.
+    pub fn with_differentiator(r_m: Vec3, diff: Differentiator) -> Self {
+        Self { r_m, diff }
+    }
+
+    /// Forget the differentiator's history (the lever arm is kept).
+    pub fn reset(&mut self) {
+        self.diff.reset();
+    }
+
+    /// The compensated specific force of a sample taken `dt` s after the
+    /// previous one (`acc` unchanged when the sample cannot be differentiated).
+    pub fn compensate(&mut self, gyr: &Vec3, acc: &Vec3, gyro_bias: &Vec3, dt: f64) -> Vec3 {
+        let w = gyr - gyro_bias;
+        match self.diff.push(dt, w) {
+            Some(w_dot) => acc - lever_arm_acceleration(&w, &w_dot, &self.r_m),
+            None => *acc,
+        }
+    }
+}
+
 /// Any attitude filter with lever-arm compensation in front of it.
 ///
 /// Each sample, ω = ω_meas − b̂ (the inner filter's bias estimate), ω̇ from the
@@ -193,8 +233,7 @@ impl Differentiator {
 #[derive(Clone, Debug)]
 pub struct Compensated<F> {
     inner: F,
-    lever_arm_m: Vec3,
-    diff: Differentiator,
+    lever: LeverArm,
 }
 
 impl<F: AttitudeFilter> Compensated<F> {
@@ -208,8 +247,7 @@ impl<F: AttitudeFilter> Compensated<F> {
     pub fn with_differentiator(inner: F, lever_arm_m: Vec3, diff: Differentiator) -> Self {
         Self {
             inner,
-            lever_arm_m,
-            diff,
+            lever: LeverArm::with_differentiator(lever_arm_m, diff),
         }
     }
 
@@ -225,15 +263,16 @@ impl<F: AttitudeFilter> Compensated<F> {
 
     /// The lever arm, m.
     pub fn lever_arm(&self) -> Vec3 {
-        self.lever_arm_m
+        self.lever.r_m
     }
 
     /// The specific force this sample contributes after compensation, or
     /// `None` when the sample is not usable.
     pub fn compensate(&mut self, gyr: &Vec3, acc: &Vec3, dt: f64) -> Option<Vec3> {
-        let w = gyr - self.inner.gyro_bias();
-        let w_dot = self.diff.push(dt, w)?;
-        Some(acc - lever_arm_acceleration(&w, &w_dot, &self.lever_arm_m))
+        if !(dt.is_finite() && dt > 0.0 && gyr.iter().all(|v| v.is_finite())) {
+            return None;
+        }
+        Some(self.lever.compensate(gyr, acc, &self.inner.gyro_bias(), dt))
     }
 }
 
@@ -262,7 +301,7 @@ impl<F: AttitudeFilter> AttitudeFilter for Compensated<F> {
 
     fn reset(&mut self) {
         self.inner.reset();
-        self.diff.reset();
+        self.lever.reset();
     }
 
     fn gyro_bias(&self) -> Vec3 {

@@ -10,7 +10,9 @@
 //!   [`filter::Dynamic`] (bounded-velocity tilt loop with bias, rest and rate adaptation);
 //! * [`compensate`] — lever-arm (tangential r·dω/dt and centripetal ω×(ω×r))
 //!   correction of the accelerometer before fusion;
-//! * [`tilt`] — every tilt convention of the field in one place.
+//! * [`tilt`] — every tilt convention of the field in one place;
+//! * [`pipeline`] — calibrate → compensate → filter → tilt per sample
+//!   ([`Pipeline`]): the only loop that runs a filter, on a device or a laptop.
 //!
 //! ## Conventions (fixed for all of clino)
 //!
@@ -54,11 +56,13 @@ extern crate std;
 pub mod compensate;
 pub mod filter;
 pub(crate) mod math;
+pub mod pipeline;
 pub mod sample;
 pub mod sensor;
 pub mod tilt;
 
-pub use filter::{AttitudeFilter, Step};
+pub use filter::{AttitudeFilter, FilterKind, FilterSpec, Step};
+pub use pipeline::Pipeline;
 pub use sample::ImuSample;
 
 /// An attitude: the unit quaternion that rotates body vectors into the

@@ -24,12 +24,14 @@ pub mod dynamic;
 mod madgwick;
 mod mahony;
 mod poisson;
+pub mod spec;
 
 pub use complementary::Complementary;
 pub use dynamic::{Dynamic, DynamicParams};
 pub use madgwick::Madgwick;
 pub use mahony::Mahony;
 pub use poisson::{Integrator, Poisson};
+pub use spec::{AnyFilter, Blend, FilterKind, FilterSpec, ParamError, ParamInfo, ParamType};
 
 use crate::math::{cos, sin, sqrt};
 use crate::{Attitude, Vec3};

@@ -1,0 +1,461 @@
+//! The pipeline: calibrate → compensate → filter → tilt, one sample at a time.
+//!
+//! [`Pipeline`] is the only loop in clino that runs an attitude filter. The
+//! same code serves a microcontroller reading a sensor ([`Pipeline::update`]),
+//! a live stream on a laptop, whole recordings and NumPy arrays
+//! ([`Pipeline::update_batch`], a loop over `update`). It allocates nothing.
+//!
+//! ## The rules, stated once
+//!
+//! * **Calibration** (optional): each sample is replaced by
+//!   [`Calibration::apply`] before anything else sees it.
+//! * **Admission** ([`crate::filter`]'s contract): a sample whose gyro or
+//!   accelerometer holds a non-finite value is a *dropout*; one beyond the
+//!   physical bounds [`MAX_RATE_RAD_S`] or [`MAX_SPECIFIC_FORCE_M_S2`] is
+//!   *saturated*. Neither reaches the filter or the differentiator; the
+//!   state is held and the attitude of the sample before is reported.
+//! * **Time step**: `dt` is the time from the last sample the filter *used*
+//!   to this one, so the interval of a dropout is carried into the next
+//!   usable sample (the gyro integrates across the gap). A time stamp that is
+//!   not finite, or not after the last used one, is refused as a dropout
+//!   (readers refuse it earlier, with its line).
+//! * **Before initialisation** the filter waits for an accelerometer reading
+//!   it can take tilt from (non-zero specific force); those samples have no
+//!   attitude ([`Status::Waiting`]). The first usable sample initialises the
+//!   attitude (tilt from gravity, heading zero) and needs no `dt`.
+//! * **Lever arm** (optional): from the second usable sample on, the
+//!   tangential ω̇ × r and centripetal ω × (ω × r) accelerations are removed
+//!   from the specific force ([`crate::compensate::LeverArm`]), with ω̇ from
+//!   a causal local-quadratic differentiator.
+//! * **Outputs**: the attitude (body → ENU) and the tilt set of
+//!   [`TiltOutput`] (aerospace roll and pitch, inclination).
+//!
+//! ```
+//! use clino_core::pipeline::{Pipeline, Status};
+//! use clino_core::filter::FilterSpec;
+//! use clino_core::{ImuSample, Vec3, G0};
+//!
+//! let mut p = Pipeline::new(FilterSpec::default()); // the dynamic filter
+//! let roll = 5f64.to_radians();
+//! let acc = Vec3::new(0.0, G0 * roll.sin(), G0 * roll.cos());
+//! for k in 0..100 {
+//!     let out = p.update(&ImuSample::new(k as f64 * 0.01, Vec3::zeros(), acc));
+//!     assert!(k > 0 || out.status == Status::Initialised);
+//! }
+//! let tilt = p.tilt().unwrap();
+//! assert!((tilt.roll_rad - roll).abs() < 1e-9);
+//! ```
+
+use crate::compensate::LeverArm;
+use crate::filter::{AnyFilter, AttitudeFilter, FilterSpec, Step};
+use crate::sensor::Calibration;
+use crate::tilt::{RollPitch, inclination};
+use crate::{Attitude, ImuSample, Vec3};
+
+/// Largest angular rate a sample may show, rad/s (≈ 57 300 °/s). The widest
+/// MEMS gyros read ±4000 °/s (70 rad/s); a larger value is a corrupted
+/// reading, and values beyond ~1e150 would overflow the filters' squares.
+pub const MAX_RATE_RAD_S: f64 = 1.0e3;
+
+/// Largest specific force a sample may show, m/s² (≈ 1000 g). High-g MEMS
+/// accelerometers read ±400 g; a larger value is a corrupted reading.
+pub const MAX_SPECIFIC_FORCE_M_S2: f64 = 1.0e4;
+
+/// What the pipeline did with one sample (the `status` column of `clino fuse`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Status {
+    /// Not initialised yet (no usable accelerometer reading so far): no attitude.
+    Waiting,
+    /// The sample initialised the attitude from the accelerometer.
+    Initialised,
+    /// Gyro propagation and accelerometer correction.
+    Fused,
+    /// Gyro propagation only (gyro-only filter, or zero accelerometer).
+    GyroOnly,
+    /// A non-finite gyro or accelerometer value, or a time stamp not after
+    /// the last used one: the state is held.
+    Dropout,
+    /// A reading beyond [`MAX_RATE_RAD_S`] or [`MAX_SPECIFIC_FORCE_M_S2`]: the state is held.
+    Saturated,
+}
+
+impl Status {
+    /// The word written in the `status` column.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Status::Waiting => "waiting",
+            Status::Initialised => "init",
+            Status::Fused => "fused",
+            Status::GyroOnly => "gyro_only",
+            Status::Dropout => "dropout",
+            Status::Saturated => "saturated",
+        }
+    }
+
+    /// The status named `s` (the inverse of [`Status::as_str`]).
+    pub fn from_str_name(s: &str) -> Option<Self> {
+        [
+            Status::Waiting,
+            Status::Initialised,
+            Status::Fused,
+            Status::GyroOnly,
+            Status::Dropout,
+            Status::Saturated,
+        ]
+        .into_iter()
+        .find(|k| k.as_str() == s)
+    }
+
+    /// True when the filter used the sample.
+    pub const fn is_used(self) -> bool {
+        matches!(self, Status::Initialised | Status::Fused | Status::GyroOnly)
+    }
+}
+
+/// Tilt outputs of one attitude, radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TiltOutput {
+    /// Aerospace (z-y-x) roll φ.
+    pub roll_rad: f64,
+    /// Aerospace (z-y-x) pitch θ.
+    pub pitch_rad: f64,
+    /// Angle of body z from the vertical.
+    pub inclination_rad: f64,
+}
+
+impl TiltOutput {
+    /// The tilt set of attitude `q`.
+    pub fn from_attitude(q: &Attitude) -> Self {
+        let rp = RollPitch::from_attitude(q);
+        Self {
+            roll_rad: rp.roll,
+            pitch_rad: rp.pitch,
+            inclination_rad: inclination(q),
+        }
+    }
+}
+
+/// The pipeline's answer for one sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Output {
+    /// What happened to the sample.
+    pub status: Status,
+    /// The attitude after the sample (body → ENU), `None` before initialisation.
+    pub attitude: Option<Attitude>,
+}
+
+impl Output {
+    /// The tilt set of the attitude, `None` before initialisation.
+    pub fn tilt(&self) -> Option<TiltOutput> {
+        self.attitude.as_ref().map(TiltOutput::from_attitude)
+    }
+}
+
+/// Counts of what the pipeline did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Samples seen.
+    pub samples: u64,
+    /// Samples that initialised the attitude.
+    pub initialised: u64,
+    /// Samples fused (gyro + accelerometer).
+    pub fused: u64,
+    /// Samples used for the gyro only.
+    pub gyro_only: u64,
+    /// Samples before the filter could initialise.
+    pub waiting: u64,
+    /// Dropouts (non-finite values or time not after the last used sample).
+    pub dropouts: u64,
+    /// Saturated samples (beyond the physical bounds).
+    pub saturated: u64,
+}
+
+impl Counts {
+    fn add(&mut self, s: Status) {
+        self.samples += 1;
+        match s {
+            Status::Waiting => self.waiting += 1,
+            Status::Initialised => self.initialised += 1,
+            Status::Fused => self.fused += 1,
+            Status::GyroOnly => self.gyro_only += 1,
+            Status::Dropout => self.dropouts += 1,
+            Status::Saturated => self.saturated += 1,
+        }
+    }
+}
+
+/// True when every component is finite.
+fn finite(v: &Vec3) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}
+
+/// Admission of one (calibrated) sample: `None` when usable, or why not.
+pub fn admission(s: &ImuSample) -> Option<Status> {
+    if !(finite(&s.gyr_rad_s) && finite(&s.acc_m_s2) && s.t_s.is_finite()) {
+        Some(Status::Dropout)
+    } else if s.gyr_rad_s.amax() > MAX_RATE_RAD_S || s.acc_m_s2.amax() > MAX_SPECIFIC_FORCE_M_S2 {
+        Some(Status::Saturated)
+    } else {
+        None
+    }
+}
+
+/// calibrate → compensate → filter → tilt (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub struct Pipeline {
+    spec: FilterSpec,
+    calibration: Option<Calibration>,
+    lever: Option<LeverArm>,
+    filter: AnyFilter,
+    last_t: Option<f64>,
+    counts: Counts,
+}
+
+impl Pipeline {
+    /// A pipeline running the filter of `spec`, without calibration or lever arm.
+    pub fn new(spec: FilterSpec) -> Self {
+        Self {
+            filter: spec.build(),
+            spec,
+            calibration: None,
+            lever: None,
+            last_t: None,
+            counts: Counts::default(),
+        }
+    }
+
+    /// The same pipeline with lever-arm compensation: `r_m` is the sensor's
+    /// position from a point on the rotation axis, m, body frame.
+    pub fn with_lever_arm(mut self, r_m: Option<Vec3>) -> Self {
+        self.lever = r_m.map(LeverArm::new);
+        self
+    }
+
+    /// The same pipeline calibrating every sample first.
+    pub fn with_calibration(mut self, calibration: Option<Calibration>) -> Self {
+        self.calibration = calibration;
+        self
+    }
+
+    /// The filter specification.
+    pub fn spec(&self) -> &FilterSpec {
+        &self.spec
+    }
+
+    /// The lever arm, m, when compensating.
+    pub fn lever_arm(&self) -> Option<Vec3> {
+        self.lever.as_ref().map(|l| l.r_m)
+    }
+
+    /// The filter.
+    pub fn filter(&self) -> &AnyFilter {
+        &self.filter
+    }
+
+    /// The filter, mutably (the offline smoother imposes a bias through it).
+    pub fn filter_mut(&mut self) -> &mut AnyFilter {
+        &mut self.filter
+    }
+
+    /// Counts so far.
+    pub fn counts(&self) -> &Counts {
+        &self.counts
+    }
+
+    /// The current attitude, `None` before initialisation.
+    pub fn attitude(&self) -> Option<Attitude> {
+        self.filter
+            .is_initialised()
+            .then(|| self.filter.attitude())
+    }
+
+    /// The current tilt, `None` before initialisation.
+    pub fn tilt(&self) -> Option<TiltOutput> {
+        self.attitude().as_ref().map(TiltOutput::from_attitude)
+    }
+
+    /// Back to the state before the first sample (parameters kept).
+    pub fn reset(&mut self) {
+        self.filter = self.spec.build();
+        if let Some(l) = &mut self.lever {
+            l.reset();
+        }
+        self.last_t = None;
+        self.counts = Counts::default();
+    }
+
+    /// Process one sample.
+    #[inline]
+    pub fn update(&mut self, sample: &ImuSample) -> Output {
+        let status = self.step(sample);
+        self.counts.add(status);
+        Output {
+            status,
+            attitude: self.attitude(),
+        }
+    }
+
+    fn step(&mut self, sample: &ImuSample) -> Status {
+        let s = match &self.calibration {
+            Some(c) => c.apply(sample),
+            None => *sample,
+        };
+        if let Some(why) = admission(&s) {
+            return why;
+        }
+        let dt = match self.last_t {
+            Some(t0) => {
+                let dt = s.t_s - t0;
+                if !(dt > 0.0) {
+                    return Status::Dropout;
+                }
+                Some(dt)
+            }
+            None => None,
+        };
+        let mut acc = s.acc_m_s2;
+        if let (Some(l), Some(dt)) = (&mut self.lever, dt) {
+            acc = l.compensate(&s.gyr_rad_s, &acc, &self.filter.gyro_bias(), dt);
+        }
+        // before the first used sample dt is never read (the filter initialises
+        // from the accelerometer); any positive value passes the filter's gate
+        let step = self
+            .filter
+            .update(s.gyr_rad_s, acc, dt.unwrap_or(f64::MIN_POSITIVE));
+        let status = match step {
+            Step::Fused => Status::Fused,
+            Step::GyroOnly => Status::GyroOnly,
+            Step::Initialised => Status::Initialised,
+            Step::Waiting => Status::Waiting,
+            Step::Rejected => Status::Dropout,
+        };
+        if status.is_used() {
+            self.last_t = Some(s.t_s);
+        }
+        status
+    }
+
+    /// Process `samples` in order, writing one [`Output`] per sample into
+    /// `out` (which must be at least as long; extra entries are untouched).
+    /// The same code as [`Pipeline::update`]. Returns the number processed.
+    pub fn update_batch(&mut self, samples: &[ImuSample], out: &mut [Output]) -> usize {
+        let n = samples.len().min(out.len());
+        for (s, o) in samples[..n].iter().zip(&mut out[..n]) {
+            *o = self.update(s);
+        }
+        n
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::G0;
+    use crate::filter::FilterKind;
+
+    fn still(t: f64) -> ImuSample {
+        ImuSample::new(t, Vec3::zeros(), Vec3::new(0.0, 0.0, G0))
+    }
+
+    #[test]
+    fn dropouts_hold_the_state_and_their_interval_carries_over() {
+        let mut p = Pipeline::new(FilterSpec::default_for(FilterKind::Poisson));
+        let w = Vec3::new(0.0, 0.0, 0.5);
+        let s = |t: f64| ImuSample::new(t, w, Vec3::new(0.0, 0.0, G0));
+        assert_eq!(p.update(&s(0.0)).status, Status::Initialised);
+        p.update(&s(0.01));
+        let held = p.attitude();
+        let mut bad = s(0.02);
+        bad.gyr_rad_s.x = f64::NAN;
+        assert_eq!(p.update(&bad).status, Status::Dropout);
+        assert_eq!(p.attitude(), held);
+        let out = p.update(&s(0.03));
+        assert_eq!(out.status, Status::GyroOnly);
+        // yaw = 0.5 rad/s over 0.01 + 0.02 s (the gap carried into the step)
+        let q = out.attitude.unwrap();
+        let yaw = 2.0 * libm::atan2(q.k, q.w);
+        assert!((yaw - 0.5 * 0.03).abs() < 1e-12, "{yaw}");
+        assert_eq!(p.counts().dropouts, 1);
+    }
+
+    #[test]
+    fn a_huge_finite_reading_is_saturated_not_poison() {
+        for kind in FilterKind::ALL {
+            let mut p = Pipeline::new(FilterSpec::default_for(kind));
+            for k in 0..10 {
+                p.update(&still(k as f64 * 0.01));
+            }
+            let mut bad = still(0.1);
+            bad.acc_m_s2.x = 1e308;
+            assert_eq!(p.update(&bad).status, Status::Saturated, "{kind}");
+            let mut bad = still(0.11);
+            bad.gyr_rad_s.y = -1e200;
+            assert_eq!(p.update(&bad).status, Status::Saturated, "{kind}");
+            for k in 12..20 {
+                let o = p.update(&still(k as f64 * 0.01));
+                let q = o.attitude.unwrap();
+                assert!(q.w.is_finite() && q.i.is_finite(), "{kind}: {q:?}");
+                assert!(o.tilt().unwrap().inclination_rad.abs() < 1e-9, "{kind}");
+            }
+            assert_eq!(p.counts().saturated, 2);
+        }
+    }
+
+    #[test]
+    fn time_not_after_the_last_used_sample_is_a_dropout() {
+        let mut p = Pipeline::new(FilterSpec::default());
+        p.update(&still(1.0));
+        assert_eq!(p.update(&still(1.0)).status, Status::Dropout);
+        assert_eq!(p.update(&still(0.5)).status, Status::Dropout);
+        assert!(p.update(&still(1.01)).status.is_used());
+    }
+
+    #[test]
+    fn waiting_until_a_usable_accelerometer() {
+        let mut p = Pipeline::new(FilterSpec::default_for(FilterKind::Mahony));
+        let zero = ImuSample::new(0.0, Vec3::zeros(), Vec3::zeros());
+        let o = p.update(&zero);
+        assert_eq!(o.status, Status::Waiting);
+        assert!(o.attitude.is_none() && o.tilt().is_none());
+        assert_eq!(p.update(&still(0.01)).status, Status::Initialised);
+    }
+
+    #[test]
+    fn batch_equals_per_sample_to_the_bit() {
+        let spec = FilterSpec::default();
+        let samples: std::vec::Vec<ImuSample> = (0..500)
+            .map(|k| {
+                let t = k as f64 * 0.005;
+                let w = Vec3::new(libm::sin(t), 0.3 * libm::cos(2.0 * t), 0.1);
+                ImuSample::new(t, w, Vec3::new(0.5 * libm::sin(t), 0.2, G0))
+            })
+            .collect();
+        let mut a = Pipeline::new(spec).with_lever_arm(Some(Vec3::new(0.5, 0.0, 0.0)));
+        let mut b = a.clone();
+        let one: std::vec::Vec<Output> = samples.iter().map(|s| a.update(s)).collect();
+        let mut many = std::vec![
+            Output {
+                status: Status::Waiting,
+                attitude: None
+            };
+            samples.len()
+        ];
+        assert_eq!(b.update_batch(&samples, &mut many), samples.len());
+        assert_eq!(one, many);
+        assert_eq!(a.counts(), b.counts());
+    }
+
+    #[test]
+    fn status_names_round_trip() {
+        for s in [
+            Status::Waiting,
+            Status::Initialised,
+            Status::Fused,
+            Status::GyroOnly,
+            Status::Dropout,
+            Status::Saturated,
+        ] {
+            assert_eq!(Status::from_str_name(s.as_str()), Some(s));
+        }
+    }
+}
