@@ -264,14 +264,19 @@ impl Pipeline {
 
     /// The current attitude, `None` before initialisation.
     pub fn attitude(&self) -> Option<Attitude> {
-        self.filter
-            .is_initialised()
-            .then(|| self.filter.attitude())
+        self.filter.is_initialised().then(|| self.filter.attitude())
     }
 
     /// The current tilt, `None` before initialisation.
     pub fn tilt(&self) -> Option<TiltOutput> {
         self.attitude().as_ref().map(TiltOutput::from_attitude)
+    }
+
+    /// Declare `t_s` the time of the last sample the filter used: for a filter
+    /// resumed from a saved state ([`Pipeline::filter_mut`]), so that the
+    /// next sample's time step is measured from it.
+    pub fn set_last_time(&mut self, t_s: f64) {
+        self.last_t = Some(t_s);
     }
 
     /// Back to the state before the first sample (parameters kept).

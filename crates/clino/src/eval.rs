@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use clino_core::Attitude;
 use serde::Serialize;
 
-use crate::fusion::{FilterConfig, Fuser};
+use crate::fusion::FilterConfig;
 use crate::io::{ImuCsvReader, ReadOptions};
 use crate::{Error, ErrorKind, Result};
 
@@ -38,33 +38,49 @@ use crate::{Error, ErrorKind, Result};
 /// let turned = Attitude::from_axis_angle(&Vector3::z_axis(), 2.0) * r;
 /// assert!(inclination_error(&turned, &r) < 1e-7);
 /// ```
+///
+/// A non-finite estimate gives NaN (never a finite number: `f64::min` would
+/// turn √NaN into 1 and the error into 0°), which [`Rms`] counts apart.
 pub fn inclination_error(q_est: &Attitude, q_ref: &Attitude) -> f64 {
     let e = q_est.quaternion() * q_ref.quaternion().conjugate();
-    let c = (e.w * e.w + e.k * e.k).sqrt().min(1.0);
+    let c = (e.w * e.w + e.k * e.k).sqrt();
+    // clamp rounding above 1 only; NaN stays NaN
+    let c = if c > 1.0 { 1.0 } else { c };
     2.0 * c.acos()
 }
 
-/// Root-mean-square accumulator of angles.
+/// Root-mean-square accumulator of angles that counts non-finite values
+/// apart: one of them makes the whole value NaN (a failed estimate is never
+/// scored as a good one).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Rms {
     sum_sq: f64,
     n: u64,
+    non_finite: u64,
 }
 
 impl Rms {
     /// Add one value.
     #[inline]
     pub fn push(&mut self, x: f64) {
-        self.sum_sq += x * x;
-        self.n += 1;
+        if x.is_finite() {
+            self.sum_sq += x * x;
+            self.n += 1;
+        } else {
+            self.non_finite += 1;
+        }
     }
-    /// Number of values.
+    /// Number of finite values.
     pub fn count(&self) -> u64 {
         self.n
     }
-    /// √(Σx²/n); NaN when empty.
+    /// Number of non-finite values pushed.
+    pub fn non_finite(&self) -> u64 {
+        self.non_finite
+    }
+    /// √(Σx²/n); NaN when empty or when any value was not finite.
     pub fn value(&self) -> f64 {
-        if self.n == 0 {
+        if self.n == 0 || self.non_finite > 0 {
             f64::NAN
         } else {
             (self.sum_sq / self.n as f64).sqrt()
@@ -77,11 +93,14 @@ impl Rms {
 pub struct FilterScore {
     /// Filter name.
     pub filter: String,
-    /// Inclination RMSE, degrees (NaN → `null` when no sample was scored).
+    /// Inclination RMSE, degrees (NaN → `null` when no sample was scored, or
+    /// when the estimate was not finite on a scored sample).
     pub rmse_deg: f64,
     /// Samples scored (movement = 1 and finite reference).
     pub scored: u64,
-    /// Rows the filter held through (NaN gyro or accelerometer).
+    /// Scored samples whose estimate was not finite (the filter failed there).
+    pub non_finite: u64,
+    /// Rows the filter held through (NaN or out-of-bounds gyro or accelerometer).
     pub dropouts: u64,
 }
 
@@ -130,38 +149,47 @@ pub fn score_reader<R: Read>(
     }
     // Real-time filters stream; offline ones need the recording in memory,
     // which is kept only when one of them is asked for.
-    let mut fusers = configs.iter().map(Fuser::new).collect::<Result<Vec<_>>>()?;
+    let mut pipes = configs
+        .iter()
+        .map(FilterConfig::pipeline)
+        .collect::<Result<Vec<_>>>()?;
     let mut rms = vec![Rms::default(); configs.len()];
     let any_offline = configs.iter().any(|c| c.offline);
-    let mut rows = Vec::new();
+    let mut samples = Vec::new();
+    let mut refs = Vec::new();
     while let Some(row) = reader.next_row()? {
         let scored = row.movement == Some(true);
-        for ((f, acc), c) in fusers.iter_mut().zip(rms.iter_mut()).zip(configs) {
+        for ((p, acc), c) in pipes.iter_mut().zip(rms.iter_mut()).zip(configs) {
             if c.offline {
                 continue;
             }
-            f.step(&row);
+            let o = p.update(&row.sample);
             if scored && let Some(r) = row.ref_q {
                 // Before initialisation the estimate is the identity (level, heading 0).
-                let q = f.attitude().unwrap_or_else(Attitude::identity);
+                let q = o.attitude.unwrap_or_else(Attitude::identity);
                 acc.push(inclination_error(&q, &r));
             }
         }
         if any_offline {
-            rows.push(row);
+            samples.push(row.sample);
+            refs.push(row.ref_q.filter(|_| scored));
         }
     }
-    let mut dropouts: Vec<u64> = fusers.iter().map(|f| f.report().dropouts).collect();
+    let mut dropouts: Vec<u64> = pipes
+        .iter()
+        .map(|p| p.counts().dropouts + p.counts().saturated)
+        .collect();
     for (i, c) in configs.iter().enumerate().filter(|(_, c)| c.offline) {
-        let qs = c.smooth_rows(&rows)?;
-        for (row, q) in rows.iter().zip(&qs) {
-            if row.movement == Some(true)
-                && let Some(r) = row.ref_q
-            {
-                rms[i].push(inclination_error(&q.unwrap_or_else(Attitude::identity), &r));
+        let qs = c.smooth_samples(&samples)?;
+        for (r, q) in refs.iter().zip(&qs) {
+            if let Some(r) = r {
+                rms[i].push(inclination_error(&q.unwrap_or_else(Attitude::identity), r));
             }
         }
-        dropouts[i] = rows.iter().filter(|r| r.has_dropout()).count() as u64;
+        dropouts[i] = samples
+            .iter()
+            .filter(|s| clino_core::pipeline::admission(s).is_some())
+            .count() as u64;
     }
     Ok(RecordingScore {
         file: reader.file().to_path_buf(),
@@ -174,6 +202,7 @@ pub fn score_reader<R: Read>(
                 filter: c.label(),
                 rmse_deg: r.value().to_degrees(),
                 scored: r.count(),
+                non_finite: r.non_finite(),
                 dropouts: *d,
             })
             .collect(),
@@ -238,6 +267,11 @@ impl EvalTable {
         let filters: Vec<String> = configs.iter().map(|c| c.label()).collect();
         let mean_rmse_deg = (0..filters.len())
             .map(|j| {
+                // a recording where the filter failed makes the mean fail too;
+                // recordings with nothing scored are left out
+                if recordings.iter().any(|r| r.scores[j].non_finite > 0) {
+                    return f64::NAN;
+                }
                 let v: Vec<f64> = recordings
                     .iter()
                     .map(|r| r.scores[j].rmse_deg)
@@ -284,10 +318,19 @@ impl EvalTable {
                 format!("  {:>w$}", "n/a")
             }
         };
+        let mut failed = Vec::new();
         for (n, r) in names.iter().zip(&self.recordings) {
             s.push_str(&format!("{n:<w0$}"));
             for (sc, w) in r.scores.iter().zip(&widths) {
-                s.push_str(&cell(sc.rmse_deg, *w));
+                if sc.non_finite > 0 {
+                    s.push_str(&format!("  {:>w$}", "FAILED", w = *w));
+                    failed.push(format!(
+                        "{n}: {} gave a non-finite attitude on {} scored samples",
+                        sc.filter, sc.non_finite
+                    ));
+                } else {
+                    s.push_str(&cell(sc.rmse_deg, *w));
+                }
             }
             s.push('\n');
         }
@@ -296,7 +339,17 @@ impl EvalTable {
             s.push_str(&cell(*m, *w));
         }
         s.push('\n');
+        for f in failed {
+            s.push_str(&format!("FAILED {f}\n"));
+        }
         s
+    }
+
+    /// True when some filter gave a non-finite attitude on a scored sample.
+    pub fn any_failed(&self) -> bool {
+        self.recordings
+            .iter()
+            .any(|r| r.scores.iter().any(|s| s.non_finite > 0))
     }
 }
 
@@ -346,6 +399,38 @@ mod tests {
             let angle = u1.cross(&u2).norm().atan2(u1.dot(&u2));
             prop_assert!((inclination_error(&q1, &q2) - angle).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn a_non_finite_estimate_is_never_scored_as_finite() {
+        // issue 15: sqrt(NaN).min(1.0) was 1, so acos gave 0° for a failed filter
+        let nan = Attitude::new_unchecked(nalgebra::Quaternion::new(f64::NAN, 0.0, 0.0, 0.0));
+        assert!(inclination_error(&nan, &Attitude::identity()).is_nan());
+        let mut r = Rms::default();
+        r.push(0.1);
+        r.push(f64::NAN);
+        assert_eq!((r.count(), r.non_finite()), (1, 1));
+        assert!(r.value().is_nan());
+        let score = |nf| FilterScore {
+            filter: "x".into(),
+            rmse_deg: if nf > 0 { f64::NAN } else { 1.0 },
+            scored: 5,
+            non_finite: nf,
+            dropouts: 0,
+        };
+        let rec = |nf| RecordingScore {
+            file: "a.csv".into(),
+            rows: 5,
+            scores: vec![score(nf)],
+        };
+        let cfg = [FilterConfig::new(crate::fusion::FilterKind::Mahony)];
+        let t = EvalTable::new(&cfg, vec![rec(0), rec(3)]);
+        assert!(
+            t.mean_rmse_deg[0].is_nan(),
+            "a failed recording must fail the mean"
+        );
+        assert!(t.any_failed());
+        assert!(t.to_text().contains("FAILED"));
     }
 
     #[test]

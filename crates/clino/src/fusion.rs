@@ -32,167 +32,270 @@
 //! ```
 
 use std::io::{Read, Write};
-use std::str::FromStr;
 
-use clino_core::compensate::Compensated;
-use clino_core::filter::{
-    Complementary, Dynamic, DynamicParams, Integrator, Madgwick, Mahony, Poisson,
-};
+pub use clino_core::filter::{FilterKind, FilterSpec};
+use clino_core::filter::{ParamError, ParamType};
+pub use clino_core::pipeline::{Counts, Output, Pipeline, Status};
 use clino_core::tilt::{RollPitch, inclination};
-use clino_core::{Attitude, AttitudeFilter, Step, Vec3};
+use clino_core::{Attitude, ImuSample, Vec3};
 use serde::Serialize;
 
 use crate::io::{CsvLineWriter, ImuCsvReader, ImuRow};
 use crate::{Error, ErrorKind, Result};
 
-/// The attitude filters that can be named on the command line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "lowercase")]
-#[non_exhaustive]
-pub enum FilterKind {
-    /// Gyro-only strapdown integration of the Poisson equation ([`Poisson`]).
-    Poisson,
-    /// The DCM complementary filter of the MPU6050 + Arduino inclinometer ([`Complementary`]).
-    Complementary,
-    /// Mahony's proportional-integral filter ([`Mahony`]).
-    Mahony,
-    /// Madgwick's gradient-descent filter ([`Madgwick`]).
-    Madgwick,
-    /// clino's dynamic inclinometer filter ([`Dynamic`]): bounded-velocity
-    /// tilt loop with gyro-bias, rest and rotation-rate adaptation.
-    Dynamic,
+fn invalid(msg: impl Into<String>) -> Error {
+    Error::new(ErrorKind::InvalidInput, msg)
 }
 
-impl FilterKind {
-    /// Every filter, in the order tables list them.
-    pub const ALL: [FilterKind; 5] = [
-        FilterKind::Poisson,
-        FilterKind::Complementary,
-        FilterKind::Mahony,
-        FilterKind::Madgwick,
-        FilterKind::Dynamic,
-    ];
+/// The filter named `name` (case ignored), or an error listing the known names.
+pub fn parse_kind(name: &str) -> Result<FilterKind> {
+    FilterKind::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = FilterKind::ALL.iter().map(|k| k.name()).collect();
+        invalid(format!(
+            "unknown filter '{}' (known: {})",
+            name.trim(),
+            names.join(", ")
+        ))
+    })
+}
 
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            FilterKind::Poisson => "poisson",
-            FilterKind::Complementary => "complementary",
-            FilterKind::Mahony => "mahony",
-            FilterKind::Madgwick => "madgwick",
-            FilterKind::Dynamic => "dynamic",
+/// Set one parameter of `spec` from text, with an error that names the
+/// filter, the key and what the key accepts.
+pub fn set_param(spec: &mut FilterSpec, key: &str, value: &str) -> Result<()> {
+    let kind = spec.kind();
+    spec.set(key, value).map_err(|e| {
+        let keys: Vec<&str> = FilterSpec::params(kind).iter().map(|p| p.key).collect();
+        match (e, spec.param(key)) {
+            (ParamError::UnknownKey, _) => invalid(format!(
+                "the {kind} filter has no parameter '{}' (its parameters: {})",
+                key.trim(),
+                if keys.is_empty() {
+                    "none".to_string()
+                } else {
+                    keys.join(", ")
+                }
+            )),
+            (_, Some(info)) => invalid(format!(
+                "{kind}:{}: '{}' is {} (it takes {})",
+                info.key,
+                value.trim(),
+                e,
+                describe(&info.ty, info.unit)
+            )),
+            (_, None) => invalid(format!("{kind}:{key}: {e}")),
+        }
+    })
+}
+
+fn describe(ty: &ParamType, unit: &str) -> String {
+    match ty {
+        ParamType::Number {
+            min,
+            max,
+            min_exclusive,
+        } => {
+            let lo = if *min_exclusive { "(" } else { "[" };
+            let hi = if *max >= 1e9 {
+                "∞)".to_string()
+            } else {
+                format!("{max}]")
+            };
+            format!("a number in {lo}{min}, {hi} {unit}")
+        }
+        ParamType::Bool => "true or false".to_string(),
+        ParamType::Integrator => "exact or rectangle".to_string(),
+    }
+}
+
+/// Parse one filter specification: `NAME` or `NAME:KEY=VALUE,KEY=VALUE…`
+/// (`poisson-rect` is `poisson:integrator=rectangle`). Keys are those of
+/// [`FilterSpec::params`], in full (`bandwidth_rad_s`) or without their unit
+/// suffix (`bandwidth`); unnamed parameters keep their defaults.
+///
+/// ```
+/// use clino::fusion::{parse_spec, FilterSpec};
+/// let s = parse_spec("mahony:kp=0.5, ki=0").unwrap();
+/// assert_eq!(s, FilterSpec::Mahony { kp: 0.5, ki: 0.0 });
+/// assert!(parse_spec("mahony:beta=1").is_err());
+/// ```
+pub fn parse_spec(text: &str) -> Result<FilterSpec> {
+    let (name, rest) = match text.split_once(':') {
+        Some((n, r)) => (n.trim(), r),
+        None => (text.trim(), ""),
+    };
+    let mut spec = if name.eq_ignore_ascii_case("poisson-rect") {
+        FilterSpec::Poisson {
+            integrator: clino_core::filter::Integrator::Rectangle,
+        }
+    } else {
+        FilterSpec::default_for(parse_kind(name)?)
+    };
+    let mut given: Vec<&'static str> = Vec::new();
+    for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (k, v) = kv
+            .split_once('=')
+            .ok_or_else(|| invalid(format!("filter '{text}': '{kv}' is not KEY=VALUE")))?;
+        set_param(&mut spec, k, v)?;
+        let key = spec.param(k).map_or("", |p| p.key);
+        if given.contains(&key) {
+            return Err(invalid(format!("filter '{text}': {key} is given twice")));
+        }
+        given.push(key);
+    }
+    if given.contains(&"k") && given.contains(&"tau_s") {
+        return Err(invalid(format!(
+            "filter '{text}': give the complementary blend as k or as tau, not both"
+        )));
+    }
+    Ok(spec)
+}
+
+/// Parse a list of specifications separated by commas, or `all` (every
+/// filter at its defaults): `dynamic:bandwidth=0.2,rest_time=2,mahony`. A
+/// `KEY=VALUE` item belongs to the filter before it. Repeats are kept once.
+pub fn parse_spec_list(text: &str) -> Result<Vec<FilterSpec>> {
+    if text.trim().eq_ignore_ascii_case("all") {
+        return Ok(FilterKind::ALL
+            .iter()
+            .map(|k| FilterSpec::default_for(*k))
+            .collect());
+    }
+    let mut items: Vec<String> = Vec::new();
+    for part in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        match items.last_mut() {
+            Some(last) if part.contains('=') && !part.contains(':') => {
+                last.push(if last.contains(':') { ',' } else { ':' });
+                last.push_str(part);
+            }
+            _ if part.contains('=') && !part.contains(':') => {
+                return Err(invalid(format!(
+                    "'{part}' names no filter: write NAME:{part}"
+                )));
+            }
+            _ => items.push(part.to_string()),
         }
     }
-
-    /// Parse a comma-separated list of names (`"mahony,madgwick"`, or `"all"`).
-    pub fn parse_list(s: &str) -> Result<Vec<FilterKind>> {
-        if s.trim().eq_ignore_ascii_case("all") {
-            return Ok(Self::ALL.to_vec());
+    let mut out: Vec<FilterSpec> = Vec::new();
+    for it in &items {
+        let s = parse_spec(it)?;
+        if !out.contains(&s) {
+            out.push(s);
         }
-        let mut out = Vec::new();
-        for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-            let k: FilterKind = name.parse()?;
-            if !out.contains(&k) {
-                out.push(k);
+    }
+    if out.is_empty() {
+        return Err(invalid("no filter named"));
+    }
+    Ok(out)
+}
+
+/// Apply parameters given apart from the specification (the command line's
+/// `--kp 0.5`, Python's keyword arguments) to every filter of `specs` that
+/// has them. A parameter none of the filters reads is an error, not a flag
+/// that silently does nothing.
+pub fn apply_params(specs: &mut [FilterSpec], params: &[(&str, String)]) -> Result<()> {
+    for (key, value) in params {
+        let mut used = false;
+        for spec in specs.iter_mut() {
+            if spec.param(key).is_some() {
+                set_param(spec, key, value)?;
+                used = true;
             }
         }
-        if out.is_empty() {
-            return Err(Error::new(ErrorKind::InvalidInput, "no filter named"));
-        }
-        Ok(out)
-    }
-}
-
-impl std::fmt::Display for FilterKind {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl FromStr for FilterKind {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        let s = s.trim().to_ascii_lowercase();
-        Self::ALL
-            .into_iter()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|k| k.name()).collect();
-                Error::new(
-                    ErrorKind::InvalidInput,
-                    format!("unknown filter '{s}' (known: {})", names.join(", ")),
-                )
-            })
-    }
-}
-
-/// Gains of every filter (each filter reads its own).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Gains {
-    /// Complementary blend k per sample, 0..1 (default 0.05; its time constant
-    /// is −Ts/ln(1 − k), about 0.19 s at 100 Hz, 0.068 s at 285.7 Hz).
-    pub complementary_k: f64,
-    /// Mahony proportional gain kp, rad/s per unit of error (default 1.0).
-    pub mahony_kp: f64,
-    /// Mahony integral gain ki, rad/s² per unit of error (default 0.02).
-    pub mahony_ki: f64,
-    /// Madgwick gradient step β, rad/s (default 0.1).
-    pub madgwick_beta: f64,
-    /// Gyro integration step for `poisson` and `complementary`; `None` keeps each
-    /// filter's default (exact for `poisson`, rectangle for `complementary`,
-    /// as in the MPU6050 + Arduino inclinometer).
-    #[serde(skip)]
-    pub integrator: Option<Integrator>,
-    /// Base loop bandwidth p₀ of the dynamic filter, rad/s (default 0.15;
-    /// see [`DynamicParams::bandwidth_rad_s`] for its meaning).
-    pub dynamic_bandwidth_rad_s: f64,
-}
-
-impl Default for Gains {
-    fn default() -> Self {
-        Self {
-            complementary_k: 0.05,
-            mahony_kp: 1.0,
-            mahony_ki: 0.02,
-            madgwick_beta: 0.1,
-            integrator: None,
-            dynamic_bandwidth_rad_s: DynamicParams::default().bandwidth_rad_s,
+        if !used {
+            let names: Vec<&str> = specs.iter().map(|s| s.kind().name()).collect();
+            let owners: Vec<&str> = FilterKind::ALL
+                .iter()
+                .filter(|k| FilterSpec::default_for(**k).param(key).is_some())
+                .map(|k| k.name())
+                .collect();
+            return Err(invalid(format!(
+                "'{key}' is a parameter of {}, not of {} (it would do nothing)",
+                if owners.is_empty() {
+                    "no filter".to_string()
+                } else {
+                    owners.join(", ")
+                },
+                names.join(", ")
+            )));
         }
     }
+    Ok(())
 }
 
-/// Which filter, with which gains, and the pipeline stages around it.
+/// The specification in the text form [`parse_spec`] reads: the name, then
+/// the parameters that differ from the defaults.
+pub fn spec_text(spec: &FilterSpec) -> String {
+    let base = FilterSpec::default_for(spec.kind());
+    let changed: Vec<String> = FilterSpec::params(spec.kind())
+        .iter()
+        .filter_map(|p| {
+            let v = spec.get(p.key)?;
+            (base.get(p.key) != Some(v)).then(|| format!("{}={v}", p.key))
+        })
+        .collect();
+    if changed.is_empty() {
+        spec.kind().name().to_string()
+    } else {
+        format!("{}:{}", spec.kind().name(), changed.join(","))
+    }
+}
+
+/// Every filter and every parameter with its unit, default and meaning (the
+/// text of `--help` for `--filter`).
+pub fn filter_help() -> String {
+    let mut s = String::from(
+        "Filter: NAME or NAME:KEY=VALUE,… (keys in full or without their unit suffix).\n",
+    );
+    for kind in FilterKind::ALL {
+        let d = FilterSpec::default_for(kind);
+        s.push_str(&format!("  {kind}\n"));
+        for p in FilterSpec::params(kind) {
+            let def = d
+                .get(p.key)
+                .map(|v| v.to_string())
+                .unwrap_or_else(|| "-".into());
+            s.push_str(&format!(
+                "    {:<24} {:<7} default {:<9} {}\n",
+                p.key, p.unit, def, p.doc
+            ));
+        }
+    }
+    s
+}
+
+/// Which filter, with which parameters, and the pipeline stages around it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilterConfig {
-    /// The filter.
-    pub kind: FilterKind,
-    /// Its gains.
-    pub gains: Gains,
+    /// The filter and its parameters.
+    pub spec: FilterSpec,
     /// Lever arm of the sensor from a point on the rotation axis, m, body
     /// frame: tangential and centripetal acceleration are removed before
-    /// fusion ([`Compensated`]).
+    /// fusion ([`clino_core::compensate::LeverArm`]).
     pub lever_arm_m: Option<Vec3>,
     /// Offline smoothing over the whole recording ([`crate::smooth`]); only
-    /// for the dynamic filter. A streaming [`Fuser`] runs the real-time filter;
-    /// [`fuse`] and [`crate::eval`] buffer the recording when this is set.
+    /// for the dynamic filter. [`fuse`] and [`crate::eval`] buffer the
+    /// recording when this is set.
     pub offline: bool,
 }
 
 impl FilterConfig {
-    /// A filter with default gains and no extra stage.
+    /// A filter with default parameters and no extra stage.
     pub fn new(kind: FilterKind) -> Self {
+        Self::from_spec(FilterSpec::default_for(kind))
+    }
+
+    /// A filter of this specification and no extra stage.
+    pub fn from_spec(spec: FilterSpec) -> Self {
         Self {
-            kind,
-            gains: Gains::default(),
+            spec,
             lever_arm_m: None,
             offline: false,
         }
     }
 
-    /// The same stages with other gains.
-    pub fn with_gains(mut self, gains: Gains) -> Self {
-        self.gains = gains;
-        self
+    /// Which filter.
+    pub fn kind(&self) -> FilterKind {
+        self.spec.kind()
     }
 
     /// The same filter with lever-arm compensation (m, body frame).
@@ -207,10 +310,10 @@ impl FilterConfig {
         self
     }
 
-    /// The column label of this configuration in tables: the filter's name,
-    /// `+offline` when smoothed, `+lever` when compensated.
+    /// The column label of this configuration in tables: the specification
+    /// ([`spec_text`]), `+offline` when smoothed, `+lever` when compensated.
     pub fn label(&self) -> String {
-        let mut s = self.kind.name().to_string();
+        let mut s = spec_text(&self.spec);
         if self.offline {
             s.push_str("+offline");
         }
@@ -220,115 +323,62 @@ impl FilterConfig {
         s
     }
 
-    /// The dynamic filter's parameters for these gains.
-    pub fn dynamic_params(&self) -> DynamicParams {
-        DynamicParams {
-            bandwidth_rad_s: self.gains.dynamic_bandwidth_rad_s,
-            ..DynamicParams::default()
-        }
-    }
-
-    /// Check the gains, the lever arm and the stages.
+    /// Check the parameters, the lever arm and the stages.
     pub fn validate(&self) -> Result<()> {
-        let g = &self.gains;
-        let check = |name: &str, v: f64, min_exclusive: bool, max: f64| {
-            let lower_ok = if min_exclusive { v > 0.0 } else { v >= 0.0 };
-            if v.is_finite() && lower_ok && v <= max {
-                Ok(())
-            } else {
-                Err(Error::new(
-                    ErrorKind::InvalidInput,
-                    format!("gain {name} must be a number in [0, {max}], got {v}"),
-                ))
-            }
-        };
-        // Every gain is checked, whichever filter is built: a bad flag is bad input.
-        check("k", g.complementary_k, false, 1.0)?;
-        check("kp", g.mahony_kp, false, f64::MAX)?;
-        check("ki", g.mahony_ki, false, f64::MAX)?;
-        check("beta", g.madgwick_beta, false, f64::MAX)?;
-        check("bandwidth", g.dynamic_bandwidth_rad_s, true, 100.0)?;
+        if let Err((key, e)) = self.spec.validate() {
+            return Err(invalid(format!("{}:{key}: {e}", self.kind())));
+        }
         if let Some(p) = self.lever_arm_m
             && !p.iter().all(|v| v.is_finite())
         {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                "lever arm must be three finite numbers (m)",
-            ));
+            return Err(invalid("lever arm must be three finite numbers (m)"));
         }
-        if self.offline && self.kind != FilterKind::Dynamic {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                format!(
-                    "offline smoothing is available for the dynamic filter, not for {}",
-                    self.kind
-                ),
-            ));
+        if self.offline && self.kind() != FilterKind::Dynamic {
+            return Err(invalid(format!(
+                "offline smoothing is available for the dynamic filter, not for {}",
+                self.kind()
+            )));
         }
         Ok(())
     }
 
-    /// Build the real-time filter (with its lever-arm stage), checking the gains.
-    pub fn build(&self) -> Result<Box<dyn AttitudeFilter + Send>> {
+    /// The real-time pipeline of this configuration (checked first).
+    pub fn pipeline(&self) -> Result<Pipeline> {
         self.validate()?;
-        let g = &self.gains;
-        fn wrap<F: AttitudeFilter + Send + 'static>(
-            f: F,
-            la: Option<Vec3>,
-        ) -> Box<dyn AttitudeFilter + Send> {
-            match la {
-                Some(p) => Box::new(Compensated::new(f, p)),
-                None => Box::new(f),
-            }
-        }
-        let la = self.lever_arm_m;
-        Ok(match self.kind {
-            FilterKind::Poisson => wrap(Poisson::new(g.integrator.unwrap_or_default()), la),
-            FilterKind::Complementary => wrap(
-                Complementary::with_integrator(
-                    g.complementary_k,
-                    g.integrator.unwrap_or(Integrator::Rectangle),
-                ),
-                la,
-            ),
-            FilterKind::Mahony => wrap(Mahony::new(g.mahony_kp, g.mahony_ki), la),
-            FilterKind::Madgwick => wrap(Madgwick::new(g.madgwick_beta), la),
-            FilterKind::Dynamic => wrap(Dynamic::new(self.dynamic_params()), la),
-        })
+        Ok(Pipeline::new(self.spec).with_lever_arm(self.lever_arm_m))
     }
 
     /// Offline attitudes of a whole recording held in memory (dynamic filter,
-    /// [`crate::smooth::smooth`]): one per row; `None` for rows before the first
-    /// usable one. Dropout rows (NaN gyro or accelerometer) hold the attitude
-    /// of the row before; the smoother sees only usable rows, with time steps
-    /// spanning the gaps.
-    pub fn smooth_rows(&self, rows: &[ImuRow]) -> Result<Vec<Option<Attitude>>> {
+    /// [`crate::smooth::smooth`]): one per sample; `None` for samples before the
+    /// first usable one. Samples the pipeline would not use (dropouts,
+    /// saturation) hold the attitude of the sample before; the smoother sees
+    /// only usable samples, with time steps spanning the gaps.
+    pub fn smooth_samples(&self, samples: &[ImuSample]) -> Result<Vec<Option<Attitude>>> {
         self.validate()?;
-        let usable: Vec<usize> = (0..rows.len())
-            .filter(|&k| !rows[k].has_dropout())
+        let FilterSpec::Dynamic(params) = self.spec else {
+            return Err(invalid("offline smoothing needs the dynamic filter"));
+        };
+        let usable: Vec<usize> = (0..samples.len())
+            .filter(|&k| clino_core::pipeline::admission(&samples[k]).is_none())
             .collect();
-        let mut gyr = Vec::with_capacity(usable.len());
-        let mut acc = Vec::with_capacity(usable.len());
-        let mut dt = Vec::with_capacity(usable.len());
-        for (j, &k) in usable.iter().enumerate() {
-            gyr.push(rows[k].sample.gyr_rad_s);
-            acc.push(rows[k].sample.acc_m_s2);
-            dt.push(if j == 0 {
+        let t = |j: usize| samples[usable[j]].t_s;
+        let gyr: Vec<Vec3> = usable.iter().map(|&k| samples[k].gyr_rad_s).collect();
+        let acc: Vec<Vec3> = usable.iter().map(|&k| samples[k].acc_m_s2).collect();
+        let dt: Vec<f64> = (0..usable.len())
+            .map(|j| match j {
                 // nominal period for the first sample (used only to initialise)
-                usable
-                    .get(1)
-                    .map_or(0.01, |&k1| rows[k1].sample.t_s - rows[k].sample.t_s)
-            } else {
-                rows[k].sample.t_s - rows[usable[j - 1]].sample.t_s
-            });
-        }
+                0 if usable.len() > 1 => t(1) - t(0),
+                0 => 0.01,
+                _ => t(j) - t(j - 1),
+            })
+            .collect();
         let opts = crate::smooth::SmoothOptions {
-            params: self.dynamic_params(),
+            params,
             lever_arm_m: self.lever_arm_m,
             ..Default::default()
         };
         let q = crate::smooth::smooth(&gyr, &acc, &dt, &opts);
-        let mut out = vec![None; rows.len()];
+        let mut out = vec![None; samples.len()];
         let mut last = None;
         let mut j = 0;
         for (k, slot) in out.iter_mut().enumerate() {
@@ -342,35 +392,7 @@ impl FilterConfig {
     }
 }
 
-/// What happened to one row, as written in the `status` column.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowStatus {
-    /// Not initialised yet (no usable accelerometer reading so far): the attitude is NaN.
-    Waiting,
-    /// The row initialised the attitude from the accelerometer.
-    Initialised,
-    /// Gyro propagation and accelerometer correction.
-    Fused,
-    /// Gyro propagation only (gyro-only filter, or zero accelerometer).
-    GyroOnly,
-    /// NaN in the gyro or accelerometer: the filter kept its state.
-    Dropout,
-}
-
-impl RowStatus {
-    /// The word written in the `status` column.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            RowStatus::Waiting => "waiting",
-            RowStatus::Initialised => "init",
-            RowStatus::Fused => "fused",
-            RowStatus::GyroOnly => "gyro_only",
-            RowStatus::Dropout => "dropout",
-        }
-    }
-}
-
-/// Counts of a run.
+/// Counts of a run of [`fuse`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct FuseReport {
     /// Rows read (= rows written).
@@ -385,106 +407,58 @@ pub struct FuseReport {
     pub waiting: u64,
     /// Rows with NaN gyro or accelerometer values (the filter kept its state).
     pub dropouts: u64,
-    /// Line of the first such row.
+    /// Rows beyond the physical bounds (the filter kept its state).
+    pub saturated: u64,
+    /// Line of the first dropout or saturated row.
     pub first_dropout_line: Option<u64>,
+}
+
+impl FuseReport {
+    fn add(&mut self, status: Status, line: u64) {
+        self.rows += 1;
+        match status {
+            Status::Waiting => self.waiting += 1,
+            Status::Initialised => self.initialised += 1,
+            Status::Fused => self.fused += 1,
+            Status::GyroOnly => self.gyro_only += 1,
+            Status::Dropout => self.dropouts += 1,
+            Status::Saturated => self.saturated += 1,
+        }
+        if matches!(status, Status::Dropout | Status::Saturated) {
+            self.first_dropout_line.get_or_insert(line);
+        }
+    }
 }
 
 /// Options of a run.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FuseOptions<'a> {
-    /// Make a NaN gyro or accelerometer value an error (naming its line and column).
+    /// Make a NaN or out-of-bounds gyro or accelerometer value an error
+    /// (naming its line and column).
     pub strict: bool,
     /// Calibrate every sample with this file before fusion (temperature from
     /// the `temp_c` column where the model needs it).
     pub calibration: Option<&'a crate::calib::CalibrationFile>,
+    /// Flush the output after every row (for a pipe or a terminal, so each
+    /// row is seen when its input row arrives).
+    pub flush_rows: bool,
 }
 
-/// Feeds the rows of one recording to one filter.
-pub struct Fuser {
-    filter: Box<dyn AttitudeFilter + Send>,
-    last_t: Option<f64>,
-    report: FuseReport,
-}
-
-impl Fuser {
-    /// A fuser around a freshly built filter.
-    pub fn new(config: &FilterConfig) -> Result<Self> {
-        Ok(Self {
-            filter: config.build()?,
-            last_t: None,
-            report: FuseReport::default(),
-        })
-    }
-
-    /// The filter.
-    pub fn filter(&self) -> &dyn AttitudeFilter {
-        &*self.filter
-    }
-
-    /// Counts so far.
-    pub fn report(&self) -> &FuseReport {
-        &self.report
-    }
-
-    /// Process one row. The time step is the time since the last row the
-    /// filter used, so a dropout row's interval is carried into the next one.
-    #[inline]
-    pub fn step(&mut self, row: &ImuRow) -> RowStatus {
-        self.report.rows += 1;
-        if row.has_dropout() {
-            self.report.dropouts += 1;
-            self.report.first_dropout_line.get_or_insert(row.line);
-            return RowStatus::Dropout;
-        }
-        let t = row.sample.t_s;
-        // Before the first usable row dt is never used (the filter initialises
-        // from the accelerometer); any positive value passes the filter's check.
-        let dt = self.last_t.map_or(f64::MIN_POSITIVE, |t0| t - t0);
-        let step = self
-            .filter
-            .update(row.sample.gyr_rad_s, row.sample.acc_m_s2, dt);
-        let status = match step {
-            Step::Fused => RowStatus::Fused,
-            Step::GyroOnly => RowStatus::GyroOnly,
-            Step::Initialised => RowStatus::Initialised,
-            Step::Waiting => RowStatus::Waiting,
-            // Finite input and increasing time: only a filter-specific refusal
-            // lands here; the state is unchanged, like a dropout.
-            Step::Rejected => RowStatus::Dropout,
-        };
-        match status {
-            RowStatus::Fused => self.report.fused += 1,
-            RowStatus::GyroOnly => self.report.gyro_only += 1,
-            RowStatus::Waiting => self.report.waiting += 1,
-            RowStatus::Dropout => {
-                self.report.dropouts += 1;
-                self.report.first_dropout_line.get_or_insert(row.line);
-            }
-            RowStatus::Initialised => self.report.initialised += 1,
-        }
-        if !matches!(status, RowStatus::Waiting | RowStatus::Dropout) {
-            self.last_t = Some(t);
-        }
-        status
-    }
-
-    /// The current attitude, `None` before initialisation.
-    #[inline]
-    pub fn attitude(&self) -> Option<Attitude> {
-        self.filter.is_initialised().then(|| self.filter.attitude())
-    }
-}
-
-/// The error for a dropout row under `strict`.
-fn dropout_error<R: Read>(reader: &ImuCsvReader<R>, row: &ImuRow) -> Error {
-    let col = reader.dropout_column(row).unwrap_or("?").to_string();
-    Error::new(
-        ErrorKind::InvalidInput,
-        "NaN in a gyro or accelerometer column (sensor dropout); without --strict the filter holds its state",
-    )
-    .in_file(reader.file())
-    .at_line(row.line)
-    .at_column(col)
+/// The error for a row the pipeline could not use, under `strict`.
+fn dropout_error<R: Read>(reader: &ImuCsvReader<R>, row: &ImuRow, status: Status) -> Error {
+    let msg = match status {
+        Status::Saturated => format!(
+            "a gyro or accelerometer value beyond the physical bounds (|ω| ≤ {} rad/s, |f| ≤ {} m/s²): a corrupted reading; without --strict the filter holds its state",
+            clino_core::pipeline::MAX_RATE_RAD_S,
+            clino_core::pipeline::MAX_SPECIFIC_FORCE_M_S2
+        ),
+        _ => "NaN in a gyro or accelerometer column (sensor dropout); without --strict the filter holds its state".to_string(),
+    };
+    let col = reader.unusable_column(row).unwrap_or("?").to_string();
+    Error::new(ErrorKind::InvalidInput, msg)
+        .in_file(reader.file())
+        .at_line(row.line)
+        .at_column(col)
 }
 
 /// The output header of [`fuse`].
@@ -505,12 +479,13 @@ pub const FUSE_HEADER: [&str; 9] = [
 ///
 /// The quaternion rotates body to ENU (Hamilton, scalar first); roll and pitch
 /// are aerospace z-y-x ([`RollPitch`]), inclination the angle of body z from
-/// vertical ([`inclination`]). Before the filter has initialised the
-/// attitude columns are NaN (`status` = `waiting`); on a dropout row they hold
-/// the last attitude (`status` = `dropout`), or the run stops with an error
-/// when `opts.strict` is set.
+/// vertical ([`inclination`]). Each row goes through the [`Pipeline`]
+/// (its rules for time steps, dropouts and initialisation are documented
+/// there, once). Before the filter has initialised the attitude columns are
+/// NaN (`status` = `waiting`); on a dropout or saturated row they hold the
+/// last attitude, or the run stops with an error when `opts.strict` is set.
 ///
-/// Memory does not depend on the length of the recording.
+/// Memory does not depend on the length of the recording (unless `offline`).
 pub fn fuse<R: Read, W: Write>(
     reader: &mut ImuCsvReader<R>,
     writer: W,
@@ -529,15 +504,19 @@ pub fn fuse_traced<R: Read, W: Write>(
     opts: &FuseOptions,
     mut trace: Option<&mut TiltTrace>,
 ) -> Result<FuseReport> {
-    let mut fuser = Fuser::new(config)?;
+    let mut pipeline = config.pipeline()?;
     let mut out = CsvLineWriter::new(writer);
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     out.header(&FUSE_HEADER).map_err(io_err)?;
-    let calibrate = |reader: &ImuCsvReader<R>, row: &mut ImuRow| -> Result<()> {
+    // the calibration file's range checks name the row; the model is applied by the pipeline
+    if let Some(cal) = opts.calibration {
+        pipeline = pipeline.with_calibration(Some(cal.calibration()));
+    }
+    let check = |reader: &ImuCsvReader<R>, row: &ImuRow| -> Result<()> {
         if let Some(cal) = opts.calibration
             && !row.has_dropout()
         {
-            row.sample = cal.apply(&row.sample).map_err(|e| Error {
+            cal.check_temp(row.sample.temp_c).map_err(|e| Error {
                 file: Some(reader.file().to_path_buf()),
                 line: Some(row.line),
                 ..e
@@ -545,57 +524,65 @@ pub fn fuse_traced<R: Read, W: Write>(
         }
         Ok(())
     };
-    if config.offline {
-        // the smoother needs the whole recording: rows are held in memory
-        let mut rows = Vec::new();
-        while let Some(mut row) = reader.next_row()? {
-            if row.has_dropout() && opts.strict {
-                return Err(dropout_error(reader, &row));
-            }
-            calibrate(reader, &mut row)?;
-            rows.push(row);
+    let mut report = FuseReport::default();
+    let mut emit = |out: &mut CsvLineWriter<W>, row: &ImuRow, q: Option<Attitude>, st: Status| {
+        out.f64(row.sample.t_s);
+        write_attitude(out, q, row.sample.t_s, trace.as_deref_mut());
+        out.str(st.as_str());
+        out.end_row()?;
+        if opts.flush_rows {
+            out.flush()?;
         }
-        let qs = config.smooth_rows(&rows)?;
-        let mut report = FuseReport::default();
-        for (row, q) in rows.iter().zip(&qs) {
-            report.rows += 1;
-            let status = if row.has_dropout() {
-                report.dropouts += 1;
-                report.first_dropout_line.get_or_insert(row.line);
-                RowStatus::Dropout
-            } else if q.is_none() {
-                report.waiting += 1;
-                RowStatus::Waiting
-            } else {
-                report.fused += 1;
-                RowStatus::Fused
+        Ok::<(), std::io::Error>(())
+    };
+    if config.offline {
+        // the smoother needs the whole recording: samples are held in memory
+        let mut rows = Vec::new();
+        let mut samples = Vec::new();
+        while let Some(row) = reader.next_row()? {
+            check(reader, &row)?;
+            let s = match opts.calibration {
+                Some(c) if !row.has_dropout() => c.calibration().apply(&row.sample),
+                _ => row.sample,
             };
-            out.f64(row.sample.t_s);
-            write_attitude(&mut out, *q, row.sample.t_s, trace.as_deref_mut());
-            out.str(status.as_str());
-            out.end_row().map_err(io_err)?;
+            if let Some(st) = clino_core::pipeline::admission(&s)
+                && opts.strict
+            {
+                return Err(dropout_error(reader, &row, st));
+            }
+            rows.push((row.line, row.sample.t_s));
+            samples.push(s);
+        }
+        let qs = config.smooth_samples(&samples)?;
+        for (((line, t), s), q) in rows.iter().zip(&samples).zip(&qs) {
+            let status = match (clino_core::pipeline::admission(s), q) {
+                (Some(st), _) => st,
+                (None, None) => Status::Waiting,
+                (None, Some(_)) => Status::Fused,
+            };
+            report.add(status, *line);
+            let row = ImuRow {
+                line: *line,
+                sample: ImuSample::new(*t, Vec3::zeros(), Vec3::zeros()),
+                ref_q: None,
+                movement: None,
+            };
+            emit(&mut out, &row, *q, status).map_err(io_err)?;
         }
         out.finish().map_err(io_err)?;
         return Ok(report);
     }
-    while let Some(mut row) = reader.next_row()? {
-        calibrate(reader, &mut row)?;
-        let status = fuser.step(&row);
-        if status == RowStatus::Dropout && opts.strict {
-            return Err(dropout_error(reader, &row));
+    while let Some(row) = reader.next_row()? {
+        check(reader, &row)?;
+        let o = pipeline.update(&row.sample);
+        if opts.strict && matches!(o.status, Status::Dropout | Status::Saturated) {
+            return Err(dropout_error(reader, &row, o.status));
         }
-        out.f64(row.sample.t_s);
-        write_attitude(
-            &mut out,
-            fuser.attitude(),
-            row.sample.t_s,
-            trace.as_deref_mut(),
-        );
-        out.str(status.as_str());
-        out.end_row().map_err(io_err)?;
+        report.add(o.status, row.line);
+        emit(&mut out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     out.finish().map_err(io_err)?;
-    Ok(*fuser.report())
+    Ok(report)
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.
@@ -704,53 +691,6 @@ impl TiltTrace {
     }
 }
 
-/// The fusion section of `clino demo`: every filter, default gains, on the
-/// embedded BROAD excerpt ([`crate::demo::BROAD_EXCERPT`]), scored with the
-/// BROAD inclination error ([`crate::eval`]). Deterministic, well under a second.
-pub fn demo_summary() -> Result<String> {
-    let mut reader = ImuCsvReader::new(
-        crate::demo::BROAD_EXCERPT.as_bytes(),
-        "broad_07_excerpt.csv",
-        &crate::io::ReadOptions::default(),
-    )?;
-    let configs: Vec<FilterConfig> = FilterKind::ALL
-        .iter()
-        .map(|k| FilterConfig::new(*k))
-        .collect();
-    let rec = crate::eval::score_reader(&mut reader, &configs)?;
-    let secs = reader.rows_read() as f64 / 285.714;
-    let mut s = format!(
-        "Attitude filters on {:.0} s of real IMU data (BROAD trial 07, fast rotation, {} rows at 285.7 Hz),\n\
-         scored against optical motion capture: inclination RMSE over the {} moving samples.\n\n",
-        secs,
-        rec.rows,
-        rec.scores.first().map_or(0, |s| s.scored)
-    );
-    s.push_str(&format!(
-        "  {:<14} {:>18}  {}\n",
-        "filter", "inclination RMSE", "gains"
-    ));
-    let g = Gains::default();
-    for (c, sc) in configs.iter().zip(&rec.scores) {
-        let gains = match c.kind {
-            FilterKind::Poisson => "gyro only (exact step)".to_string(),
-            FilterKind::Complementary => format!("k = {} per sample", g.complementary_k),
-            FilterKind::Mahony => format!("kp = {}, ki = {}", g.mahony_kp, g.mahony_ki),
-            FilterKind::Madgwick => format!("beta = {} rad/s", g.madgwick_beta),
-            FilterKind::Dynamic => format!(
-                "bandwidth = {} rad/s (clino's own)",
-                g.dynamic_bandwidth_rad_s
-            ),
-        };
-        s.push_str(&format!(
-            "  {:<14} {:>16.2} °  {}\n",
-            sc.filter, sc.rmse_deg, gains
-        ));
-    }
-    s.push_str("\nData: BROAD, CC BY 4.0, Laidig, Caruso, Cereatti, Seel, Data 6(7) 2021.\n");
-    Ok(s)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -776,46 +716,91 @@ mod tests {
     #[test]
     fn names_round_trip_and_unknown_is_an_error() {
         for k in FilterKind::ALL {
-            assert_eq!(k.name().parse::<FilterKind>().unwrap(), k);
+            assert_eq!(parse_kind(k.name()).unwrap(), k);
+            assert_eq!(parse_spec(k.name()).unwrap(), FilterSpec::default_for(k));
         }
-        let e = "kalman".parse::<FilterKind>().unwrap_err();
+        let e = parse_kind("kalman").unwrap_err();
         assert!(e.message.contains("kalman") && e.message.contains("madgwick"));
+        let kinds = |s: &str| -> Vec<FilterKind> {
+            parse_spec_list(s)
+                .unwrap()
+                .iter()
+                .map(|s| s.kind())
+                .collect()
+        };
         assert_eq!(
-            FilterKind::parse_list("mahony, madgwick,mahony").unwrap(),
+            kinds("mahony, madgwick,mahony"),
             vec![FilterKind::Mahony, FilterKind::Madgwick]
         );
-        assert_eq!(FilterKind::parse_list("all").unwrap().len(), 5);
-        assert!(FilterKind::parse_list(",").is_err());
+        assert_eq!(kinds("all").len(), 5);
+        assert!(parse_spec_list(",").is_err());
+        // KEY=VALUE items belong to the filter before them
+        let l = parse_spec_list("dynamic:bandwidth=0.2,rest_time=2,mahony,kp=0.5").unwrap();
+        let FilterSpec::Dynamic(d) = l[0] else {
+            panic!()
+        };
+        assert_eq!((d.bandwidth_rad_s, d.rest_time_s), (0.2, 2.0));
+        assert_eq!(l[1], FilterSpec::Mahony { kp: 0.5, ki: 0.02 });
+        assert!(parse_spec_list("kp=0.5,mahony").is_err());
+    }
+
+    #[test]
+    fn spec_text_round_trips_and_names_only_changes() {
+        let s = parse_spec("dynamic:bandwidth=0.25,learn_bias=false").unwrap();
+        assert_eq!(
+            spec_text(&s),
+            "dynamic:bandwidth_rad_s=0.25,learn_bias=false"
+        );
+        assert_eq!(parse_spec(&spec_text(&s)).unwrap(), s);
+        assert_eq!(spec_text(&FilterSpec::default()), "dynamic");
+        let h = filter_help();
+        for k in FilterKind::ALL {
+            for p in FilterSpec::params(k) {
+                assert!(h.contains(p.key) && h.contains(p.unit), "{}", p.key);
+            }
+        }
+    }
+
+    #[test]
+    fn a_flag_no_chosen_filter_reads_is_an_error() {
+        let mut specs = [FilterSpec::default()];
+        let e = apply_params(&mut specs, &[("integrator", "rectangle".into())]).unwrap_err();
+        assert!(
+            e.message.contains("poisson, complementary"),
+            "{}",
+            e.message
+        );
+        let mut both = [
+            FilterSpec::default(),
+            FilterSpec::default_for(FilterKind::Mahony),
+        ];
+        apply_params(&mut both, &[("kp", "0.3".into())]).unwrap();
+        assert_eq!(both[1], FilterSpec::Mahony { kp: 0.3, ki: 0.02 });
+        assert_eq!(both[0], FilterSpec::default());
     }
 
     #[test]
     fn stages_and_bad_gains_are_checked() {
         let c =
             FilterConfig::new(FilterKind::Mahony).with_lever_arm(Some(Vec3::new(0.1, 0.0, 0.0)));
-        assert!(c.build().is_ok());
+        assert!(c.pipeline().is_ok());
         assert_eq!(c.label(), "mahony+lever");
         let c = FilterConfig::new(FilterKind::Mahony).with_lever_arm(Some(Vec3::new(
             f64::NAN,
             0.0,
             0.0,
         )));
-        assert!(c.build().err().unwrap().message.contains("lever arm"));
+        assert!(c.validate().err().unwrap().message.contains("lever arm"));
         let c = FilterConfig::new(FilterKind::Mahony).with_offline(true);
-        assert!(c.build().err().unwrap().message.contains("offline"));
+        assert!(c.validate().err().unwrap().message.contains("offline"));
         let c = FilterConfig::new(FilterKind::Dynamic).with_offline(true);
-        assert!(c.build().is_ok());
+        assert!(c.validate().is_ok());
         assert_eq!(c.label(), "dynamic+offline");
-        let mut c = FilterConfig::new(FilterKind::Dynamic);
-        c.gains.dynamic_bandwidth_rad_s = 0.0;
-        assert!(c.build().is_err());
-        let mut c = FilterConfig::new(FilterKind::Complementary);
-        c.gains.complementary_k = 1.5;
-        assert!(c.build().is_err());
-        c.gains.complementary_k = f64::NAN;
-        assert!(c.build().is_err());
-        let mut c = FilterConfig::new(FilterKind::Madgwick);
-        c.gains.madgwick_beta = -0.1;
-        assert!(c.build().is_err());
+        let bad = FilterConfig::from_spec(FilterSpec::Madgwick { beta: -0.1 });
+        assert!(bad.validate().is_err());
+        assert!(parse_spec("dynamic:bandwidth=0").is_err());
+        assert!(parse_spec("complementary:k=1.5").is_err());
+        assert!(parse_spec("complementary:k=NaN").is_err());
     }
 
     #[test]
@@ -915,13 +900,29 @@ mod tests {
     }
 
     #[test]
-    fn demo_summary_scores_every_filter_sensibly() {
-        let s = demo_summary().unwrap();
-        for k in FilterKind::ALL {
-            assert!(s.contains(k.name()), "{s}");
+    fn a_huge_finite_cell_is_saturation_not_poison_and_strict_names_it() {
+        // issue 15: acc_x = 1e308 on the tenth data row turned every later row into NaN
+        let mut text = String::from(HEAD);
+        for i in 0..40 {
+            let ax = if i == 9 { "1e308" } else { "0" };
+            text.push_str(&format!("{},0,0,0.1,{ax},0,9.81\n", i as f64 * 0.01));
         }
-        let again = demo_summary().unwrap();
-        assert_eq!(s, again);
+        for k in FilterKind::ALL {
+            let (rep, out) = run(&text, k, false).unwrap();
+            assert_eq!(rep.saturated, 1, "{k}");
+            assert_eq!(rep.first_dropout_line, Some(11));
+            let rows: Vec<&str> = out.lines().skip(1).collect();
+            assert!(rows[9].ends_with(",saturated"), "{k}: {}", rows[9]);
+            for r in &rows[10..] {
+                assert!(!r.contains("NaN"), "{k}: {r}");
+            }
+            let e = run(&text, k, true).unwrap_err();
+            assert_eq!(
+                (e.line, e.column.as_deref()),
+                (Some(11), Some("acc_x_m_s2"))
+            );
+            assert!(e.message.contains("physical bounds"), "{}", e.message);
+        }
     }
 
     #[test]

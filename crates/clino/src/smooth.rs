@@ -29,12 +29,10 @@
 //! Memory: the recording and one attitude per sample are held (≈ 100 bytes a
 //! sample), unlike the streaming real-time path.
 
-use clino_core::compensate::Compensated;
-#[allow(unused_imports)]
-use clino_core::filter::DynamicParams as _;
-use clino_core::filter::{Dynamic, DynamicParams};
+use clino_core::filter::{DynamicParams, FilterSpec};
+use clino_core::pipeline::Pipeline;
 use clino_core::tilt::up_in_body;
-use clino_core::{Attitude, AttitudeFilter, Vec3};
+use clino_core::{Attitude, AttitudeFilter, ImuSample, Vec3};
 use nalgebra::UnitQuaternion;
 
 /// Options of the offline smoother.
@@ -90,18 +88,19 @@ impl Default for BoundedMotion {
     }
 }
 
-type Runner = Compensated<Dynamic>;
-
-fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Runner {
+/// A pipeline running the dynamic filter of `opts` (without lever arm: the
+/// compensation is done once, before the passes, see [`compensate_centred`]),
+/// resumed from `start` (attitude and bias) when given.
+fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Pipeline {
     let mut params = opts.params;
     params.learn_bias = learn;
-    let mut f = Dynamic::new(params);
-    if let Some((q, b)) = start {
+    let mut p = Pipeline::new(FilterSpec::Dynamic(params));
+    if let Some((q, b)) = start
+        && let Some(f) = p.filter_mut().as_dynamic_mut()
+    {
         f.resume(q, b);
     }
-    // lever-arm compensation is done once, before the passes (see `compensate_centred`);
-    // a zero lever arm makes the wrapper an exact no-op
-    Compensated::new(f, Vec3::zeros())
+    p
 }
 
 /// Half-width of the centred differentiator window, s (window 50 ms, as the
@@ -158,40 +157,56 @@ pub fn compensate_centred(
         .collect()
 }
 
-/// One pass over the recording. Returns the attitude after each sample and the
-/// bias estimate at each sample (in the forward sense). With `bias` given, the
+/// One pass over the recording, through the [`Pipeline`] (its rules for
+/// dropouts apply). Returns the attitude after each sample and the bias
+/// estimate at each sample (in the forward sense). With `bias` given, the
 /// filter's bias is imposed at every sample instead of learnt.
 /// `dt[k]` is the interval that ends at sample k.
+///
+/// The time stamps the pipeline sees are the running sum of `dt` (forwards)
+/// or its negation (backwards, where going from sample i+1 back to sample i
+/// undoes the rotation of interval i+1 with the rate negated). A pass that
+/// starts from a resumed state is given the time of the sample before its first.
 fn pass(
     gyr: &[Vec3],
     acc: &[Vec3],
     dt: &[f64],
     reverse: bool,
-    f: &mut Runner,
+    f: &mut Pipeline,
     bias: Option<&[Vec3]>,
 ) -> (Vec<Attitude>, Vec<Vec3>) {
     let n = gyr.len();
+    let mut t = Vec::with_capacity(n);
+    let mut now = 0.0;
+    for &h in dt {
+        now += if h.is_finite() && h > 0.0 { h } else { 0.0 };
+        t.push(now);
+    }
     let mut out = vec![Attitude::identity(); n];
     let mut bout = vec![Vec3::zeros(); n];
     let sign = if reverse { -1.0 } else { 1.0 };
+    if f.filter().is_initialised() {
+        let t0 = if reverse {
+            -(t[n - 1] + dt[n - 1])
+        } else {
+            t[0] - dt[0]
+        };
+        f.set_last_time(t0);
+    }
     for k in 0..n {
         let i = if reverse { n - 1 - k } else { k };
-        if let Some(b) = bias {
-            f.inner_mut().set_gyro_bias(b[i] * sign);
+        if let (Some(b), Some(d)) = (bias, f.filter_mut().as_dynamic_mut()) {
+            d.set_gyro_bias(b[i] * sign);
         }
-        if reverse {
-            // going from sample i+1 back to sample i undoes the rotation of interval i+1
-            let (g, h) = if i + 1 < n {
-                (gyr[i + 1], dt[i + 1])
-            } else {
-                (gyr[i], dt[i])
-            };
-            f.update(-g, acc[i], h);
+        let sample = if reverse {
+            let g = if i + 1 < n { gyr[i + 1] } else { gyr[i] };
+            ImuSample::new(-t[i], -g, acc[i])
         } else {
-            f.update(gyr[i], acc[i], dt[i]);
-        }
-        out[i] = f.attitude();
-        bout[i] = f.gyro_bias() * sign;
+            ImuSample::new(t[i], gyr[i], acc[i])
+        };
+        f.update(&sample);
+        out[i] = f.filter().attitude();
+        bout[i] = f.filter().gyro_bias() * sign;
     }
     (out, bout)
 }
@@ -214,11 +229,18 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
     let compensated;
     let acc = match opts.lever_arm_m {
         Some(p) => {
-            let mut f0 = Compensated::new(Dynamic::new(opts.params), p);
+            // a first real-time (compensated) pass learns the bias used for ω
+            let mut f0 = Pipeline::new(FilterSpec::Dynamic(opts.params)).with_lever_arm(Some(p));
+            let mut now = 0.0;
             for k in 0..n {
-                f0.update(gyr[k], acc[k], dt[k]);
+                now += if dt[k].is_finite() && dt[k] > 0.0 {
+                    dt[k]
+                } else {
+                    0.0
+                };
+                f0.update(&ImuSample::new(now, gyr[k], acc[k]));
             }
-            compensated = compensate_centred(gyr, acc, dt, &p, &f0.gyro_bias());
+            compensated = compensate_centred(gyr, acc, dt, &p, &f0.filter().gyro_bias());
             &compensated[..]
         }
         None => acc,

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clino::eval::evaluate;
-use clino::fusion::{FilterConfig, FilterKind};
+use clino::fusion::{FilterConfig, FilterKind, apply_params, parse_spec_list};
 
 use super::{GainArgs, ReadArgs, StageArgs};
 
@@ -13,8 +13,9 @@ pub struct Args {
     /// Recordings with ref_qw..ref_qz and movement columns; a directory means every *.csv inside, sorted.
     #[arg(required = true)]
     pub paths: Vec<PathBuf>,
-    /// Filters to score, comma-separated (poisson,complementary,mahony,madgwick,dynamic) or `all`.
-    #[arg(long, short = 'f', default_value = "all")]
+    /// Filters to score, comma-separated (poisson,complementary,mahony,madgwick,dynamic) or `all`;
+    /// each may carry parameters: `dynamic:bandwidth=0.2,rest_time=2,mahony:kp=0.5`.
+    #[arg(long, short = 'f', default_value = "all", long_help = clino::fusion::filter_help())]
     pub filter: String,
     /// Print machine-readable JSON to stdout instead of the table.
     #[arg(long)]
@@ -32,24 +33,22 @@ pub struct Args {
 /// Run `clino eval`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     let opts = a.read.options()?;
-    let gains = a.gains.gains()?;
     let lever_arm = a.stages.lever_arm()?;
-    let kinds = FilterKind::parse_list(&a.filter)?;
-    if a.stages.offline && !kinds.contains(&FilterKind::Dynamic) {
+    let mut specs = parse_spec_list(&a.filter)?;
+    apply_params(&mut specs, &a.gains.params())?;
+    if a.stages.offline && !specs.iter().any(|s| s.kind() == FilterKind::Dynamic) {
         anyhow::bail!("--offline smooths the dynamic filter: include it in --filter");
     }
     let mut configs: Vec<FilterConfig> = Vec::new();
-    for k in kinds {
-        let c = FilterConfig::new(k)
-            .with_gains(gains)
-            .with_lever_arm(lever_arm);
+    for s in specs {
+        let c = FilterConfig::from_spec(s).with_lever_arm(lever_arm);
         configs.push(c);
-        if a.stages.offline && k == FilterKind::Dynamic {
+        if a.stages.offline && s.kind() == FilterKind::Dynamic {
             configs.push(c.with_offline(true));
         }
     }
     for c in &configs {
-        c.build()?;
+        c.validate()?;
     }
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(indicatif::ProgressStyle::with_template(
@@ -66,6 +65,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     } else {
         println!("inclination RMSE, degrees (BROAD scoring: movement = 1, finite reference)");
         print!("{}", table.to_text());
+    }
+    if table.any_failed() {
+        anyhow::bail!(
+            "a filter gave a non-finite attitude on scored samples (marked FAILED): its score is not a number"
+        );
     }
     Ok(())
 }

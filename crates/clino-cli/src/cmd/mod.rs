@@ -9,8 +9,6 @@ pub mod stewart;
 pub mod survey;
 pub mod testbench;
 
-use clino::core::filter::Integrator;
-use clino::fusion::Gains;
 use clino::io::{AccelUnit, GyroUnit, ReadOptions};
 
 /// How to read a recording (shared by `fuse` and `eval`).
@@ -39,27 +37,46 @@ impl ReadArgs {
     }
 }
 
-/// Filter gains (each filter reads its own).
+/// Filter parameters given as flags (each applies to the filters that read it;
+/// one that no chosen filter reads is an error). Every parameter can also be
+/// given in the `--filter NAME:KEY=VALUE,…` form.
 #[derive(clap::Args, Debug)]
 pub struct GainArgs {
-    /// Complementary filter blend per sample, 0..1 (time constant −Ts/ln(1−k)).
-    #[arg(long, default_value_t = Gains::default().complementary_k)]
-    pub k: f64,
-    /// Mahony proportional gain, rad/s per unit error.
-    #[arg(long, default_value_t = Gains::default().mahony_kp)]
-    pub kp: f64,
-    /// Mahony integral gain, rad/s² per unit error.
-    #[arg(long, default_value_t = Gains::default().mahony_ki)]
-    pub ki: f64,
-    /// Madgwick gradient step, rad/s.
-    #[arg(long, default_value_t = Gains::default().madgwick_beta)]
-    pub beta: f64,
+    /// Complementary filter blend per sample, 0..1 (time constant −Ts/ln(1−k)); default 0.05.
+    #[arg(long)]
+    pub k: Option<String>,
+    /// Mahony proportional gain, rad/s per unit error; default 1.
+    #[arg(long)]
+    pub kp: Option<String>,
+    /// Mahony integral gain, rad/s² per unit error; default 0.02.
+    #[arg(long)]
+    pub ki: Option<String>,
+    /// Madgwick gradient step, rad/s; default 0.1.
+    #[arg(long)]
+    pub beta: Option<String>,
     /// Gyro integration step of poisson/complementary: exact (rotation vector) or rectangle (first order).
     #[arg(long, value_name = "exact|rectangle")]
     pub integrator: Option<String>,
-    /// Dynamic filter: base loop bandwidth, rad/s (1/bandwidth is the accelerometer's time constant in slow motion).
-    #[arg(long, value_name = "RAD_S", default_value_t = Gains::default().dynamic_bandwidth_rad_s)]
-    pub bandwidth: f64,
+    /// Dynamic filter: base loop bandwidth, rad/s (1/bandwidth is the accelerometer's time constant in slow motion); default 0.15.
+    #[arg(long, value_name = "RAD_S")]
+    pub bandwidth: Option<String>,
+}
+
+impl GainArgs {
+    /// The flags given, as (parameter key, value).
+    pub fn params(&self) -> Vec<(&'static str, String)> {
+        [
+            ("k", &self.k),
+            ("kp", &self.kp),
+            ("ki", &self.ki),
+            ("beta", &self.beta),
+            ("integrator", &self.integrator),
+            ("bandwidth_rad_s", &self.bandwidth),
+        ]
+        .into_iter()
+        .filter_map(|(k, v)| v.clone().map(|v| (k, v)))
+        .collect()
+    }
 }
 
 /// Pipeline stages around the filter, shared by `fuse` and `eval`.
@@ -92,32 +109,5 @@ impl StageArgs {
             anyhow::bail!("--lever-arm wants three finite numbers in metres, \"X,Y,Z\", got '{s}'");
         }
         Ok(Some(nalgebra::Vector3::new(v[0], v[1], v[2])))
-    }
-}
-
-impl GainArgs {
-    /// The library's gains.
-    pub fn gains(&self) -> anyhow::Result<Gains> {
-        let integrator = match self
-            .integrator
-            .as_deref()
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            None => None,
-            Some("exact") => Some(Integrator::Exact),
-            Some("rectangle") => Some(Integrator::Rectangle),
-            Some(other) => {
-                anyhow::bail!("unknown integrator '{other}' (expected exact or rectangle)")
-            }
-        };
-        Ok(Gains {
-            complementary_k: self.k,
-            mahony_kp: self.kp,
-            mahony_ki: self.ki,
-            madgwick_beta: self.beta,
-            integrator,
-            dynamic_bandwidth_rad_s: self.bandwidth,
-        })
     }
 }

@@ -31,7 +31,7 @@ pub use dynamic::{Dynamic, DynamicParams};
 pub use madgwick::Madgwick;
 pub use mahony::Mahony;
 pub use poisson::{Integrator, Poisson};
-pub use spec::{AnyFilter, Blend, FilterKind, FilterSpec, ParamError, ParamInfo, ParamType};
+pub use spec::{AnyFilter, Blend, FilterKind, FilterSpec, ParamError, ParamInfo, ParamType, Value};
 
 use crate::math::{cos, sin, sqrt};
 use crate::{Attitude, Vec3};

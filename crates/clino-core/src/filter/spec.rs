@@ -227,7 +227,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 19] = [
         POSITIVE,
         "velocity-leak factor a (k_u = a·p)",
     ),
-    p("tilt_gain", "1", POSITIVE, "tilt-gain factor b (k_θ = b·p²)"),
+    p(
+        "tilt_gain",
+        "1",
+        POSITIVE,
+        "tilt-gain factor b (k_θ = b·p²)",
+    ),
     p(
         "bias_gain",
         "1",
@@ -312,7 +317,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 19] = [
         NON_NEGATIVE,
         "rest time after power-on during which tilt is also aligned",
     ),
-    p("gravity_m_s2", "m/s²", num(0.0, 100.0, true), "local gravity"),
+    p(
+        "gravity_m_s2",
+        "m/s²",
+        num(0.0, 100.0, true),
+        "local gravity",
+    ),
     p(
         "learn_bias",
         "-",
@@ -395,10 +405,27 @@ impl ParamInfo {
     }
 }
 
-enum Value {
+/// The value of one parameter ([`FilterSpec::get`]); `Display` writes the
+/// text form that [`FilterSpec::set`] reads back.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// A number, in the parameter's unit.
     Number(f64),
+    /// A switch.
     Bool(bool),
+    /// An integration rule.
     Integrator(Integrator),
+}
+
+impl core::fmt::Display for Value {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Value::Number(x) => write!(f, "{x}"),
+            Value::Bool(b) => write!(f, "{b}"),
+            Value::Integrator(Integrator::Exact) => f.write_str("exact"),
+            Value::Integrator(Integrator::Rectangle) => f.write_str("rectangle"),
+        }
+    }
 }
 
 impl Value {
@@ -510,6 +537,51 @@ impl FilterSpec {
             }
         }
         Ok(())
+    }
+
+    /// The value of the parameter named `key` (`None` when this filter has no
+    /// such parameter, or for the blend form not in use: `k` of a
+    /// complementary filter given by `tau_s`, and the reverse).
+    pub fn get(&self, key: &str) -> Option<Value> {
+        let info = self.param(key)?;
+        let n = Value::Number;
+        Some(match (self, info.key) {
+            (FilterSpec::Poisson { integrator }, _) => Value::Integrator(*integrator),
+            (FilterSpec::Complementary { blend, .. }, "k") => match blend {
+                Blend::PerSample(k) => n(*k),
+                Blend::TimeConstant(_) => return None,
+            },
+            (FilterSpec::Complementary { blend, .. }, "tau_s") => match blend {
+                Blend::TimeConstant(t) => n(*t),
+                Blend::PerSample(_) => return None,
+            },
+            (FilterSpec::Complementary { integrator, .. }, _) => Value::Integrator(*integrator),
+            (FilterSpec::Mahony { kp, .. }, "kp") => n(*kp),
+            (FilterSpec::Mahony { ki, .. }, _) => n(*ki),
+            (FilterSpec::Madgwick { beta }, _) => n(*beta),
+            (FilterSpec::Dynamic(d), k) => match k {
+                "learn_bias" => Value::Bool(d.learn_bias),
+                "bandwidth_rad_s" => n(d.bandwidth_rad_s),
+                "velocity_damping" => n(d.velocity_damping),
+                "tilt_gain" => n(d.tilt_gain),
+                "bias_gain" => n(d.bias_gain),
+                "scale_rate_rad_s" => n(d.scale_rate_rad_s),
+                "rest_gyr_rad_s" => n(d.rest_gyr_rad_s),
+                "rest_gyr_initial_rad_s" => n(d.rest_gyr_initial_rad_s),
+                "rest_acc_m_s2" => n(d.rest_acc_m_s2),
+                "rest_time_s" => n(d.rest_time_s),
+                "rest_bias_tau_s" => n(d.rest_bias_tau_s),
+                "bias_memory_s" => n(d.bias_memory_s),
+                "lowpass_tau_s" => n(d.lowpass_tau_s),
+                "vibration_tau_s" => n(d.vibration_tau_s),
+                "bias_max_rad_s" => n(d.bias_max_rad_s),
+                "start_bandwidth_rad_s" => n(d.start_bandwidth_rad_s),
+                "start_time_s" => n(d.start_time_s),
+                "alignment_s" => n(d.alignment_s),
+                "gravity_m_s2" => n(d.gravity_m_s2),
+                _ => return None,
+            },
+        })
     }
 
     /// Check every parameter against its range (what [`FilterSpec::set`]
@@ -698,6 +770,11 @@ mod tests {
                     info.key
                 );
                 assert!(s.validate().is_ok(), "{kind}:{}", info.key);
+                // get writes the text form set reads back
+                let mut again = FilterSpec::default_for(kind);
+                let text = std::format!("{}", s.get(info.key).unwrap());
+                again.set(info.key, &text).unwrap();
+                assert_eq!(again, s, "{kind}:{}", info.key);
                 // the short key (without unit suffix) names the same parameter
                 let short = info
                     .key

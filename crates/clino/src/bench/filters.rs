@@ -1,29 +1,25 @@
-//! Choosing an attitude filter by name for the test bench.
+//! Running a named attitude filter for the test bench.
 //!
-//! One function, [`filter_factory`], maps a name (optionally with parameters)
-//! to a factory that builds fresh filters; every test-bench run goes through
-//! it. The filters themselves come from the shared registry
-//! [`crate::fusion::FilterConfig`]: this module only parses the bench's
-//! `name:key=value,…` spec into a [`FilterConfig`] (kind and [`Gains`]).
+//! The bench names filters in the one specification form of
+//! [`crate::fusion::parse_spec`] (`name:key=value,…`, every parameter of
+//! [`clino_core::filter::FilterSpec`]), and runs them through the one
+//! per-sample loop, [`clino_core::pipeline::Pipeline`].
 //!
 //! Names: `poisson` (exact strapdown integration), `poisson-rect` (the
 //! paper's rectangle rule), `complementary`, `mahony`, `madgwick`, `dynamic`
-//! (clino's own filter, [`clino_core::filter::Dynamic`]). Parameters follow a
-//! colon, comma separated: `complementary:tau=10` (time constant, s) or
-//! `complementary:k=0.05` (blend per sample; default 0.05 at the run's rate),
-//! `mahony:kp=0.1,ki=0.0005` (rad/s, rad/s²), `madgwick:beta=0.01` (rad/s),
-//! `dynamic:bandwidth=0.15` (base loop bandwidth p₀, rad/s). Unnamed
-//! parameters keep the registry's defaults ([`Gains::default`]).
+//! (clino's own filter). Examples: `complementary:tau=10` (time constant, s)
+//! or `complementary:k=0.05` (blend per sample), `mahony:kp=0.1,ki=0.0005`
+//! (rad/s, rad/s²), `madgwick:beta=0.01` (rad/s), `dynamic:bandwidth=0.15`.
 
-use crate::fusion::{FilterConfig, FilterKind, Gains};
-use crate::{Error, ErrorKind, Result};
-use clino_core::filter::{Complementary, Integrator};
-use clino_core::{Attitude, AttitudeFilter, ImuSample};
+use crate::Result;
+use crate::fusion::{FilterSpec, parse_spec};
+use clino_core::pipeline::Pipeline;
+use clino_core::{Attitude, ImuSample};
 
-/// Builds a fresh, uninitialised filter.
-pub type FilterFactory = Box<dyn Fn() -> Box<dyn AttitudeFilter> + Send + Sync>;
+/// What the bench builds its filters from: the one filter specification.
+pub type FilterFactory = FilterSpec;
 
-/// Filter names accepted by [`filter_factory`].
+/// Filter names the bench accepts (`poisson-rect` is `poisson:integrator=rectangle`).
 pub const FILTER_NAMES: [&str; 6] = [
     "poisson",
     "poisson-rect",
@@ -35,123 +31,34 @@ pub const FILTER_NAMES: [&str; 6] = [
 
 /// The filter the test bench demonstrates: clino's own `dynamic` at its
 /// defaults. On the `mpu6050` preset at 200 Hz it keeps the tilt of a 5° cone
-/// within 0.05 dB from 0.1 to 10 Hz and the fitted cross-coupling of 20 mm
-/// orbits at 0.01–0.02° p-p from 0.1 to 0.8 Hz (BENCHMARKS.md). At 100 Hz the
+/// within 0.05 dB from 0.1 to 10 Hz (BENCHMARKS.md). At 100 Hz the
 /// 10-Hz cone shows +0.1 dB: one rate sample per integration step misses
 /// (ωh)²/24 of the coning rotation, a property of rate-sampled strapdown
 /// integration shared by every filter here.
 pub const BEST_FILTER: &str = "dynamic";
 
-/// Run a fresh filter from `factory` over `samples`, returning its attitude
-/// after each sample (identity until initialised). The first step uses the
-/// nominal period `1/rate_hz`, later ones the time-stamp differences.
-pub fn run_filter(factory: &FilterFactory, samples: &[ImuSample], rate_hz: f64) -> Vec<Attitude> {
-    let mut f = factory();
-    let mut prev = None;
+/// Run a fresh pipeline of `spec` over `samples`, returning its attitude
+/// after each sample (identity until initialised). Time steps follow the
+/// pipeline's rule (time-stamp differences); `_rate_hz` is kept for callers
+/// that pass the nominal rate.
+pub fn run_filter(spec: &FilterSpec, samples: &[ImuSample], _rate_hz: f64) -> Vec<Attitude> {
+    let mut p = Pipeline::new(*spec);
     samples
         .iter()
-        .map(|s| {
-            let dt = prev.map_or(1.0 / rate_hz, |p| s.t_s - p);
-            prev = Some(s.t_s);
-            f.update(s.gyr_rad_s, s.acc_m_s2, dt);
-            f.attitude()
-        })
+        .map(|s| p.update(s).attitude.unwrap_or_else(Attitude::identity))
         .collect()
 }
 
-/// A factory for the filter named by `spec` (see the module doc), for samples at `rate_hz`.
+/// The filter named by `spec` (see the module doc), checked. `rate_hz` must be
+/// a positive rate (the runs it is for are sampled at it).
 pub fn filter_factory(spec: &str, rate_hz: f64) -> Result<FilterFactory> {
-    let bad = |m: String| Error::new(ErrorKind::InvalidInput, m);
-    let (name, rest) = match spec.split_once(':') {
-        Some((n, r)) => (n.trim().to_ascii_lowercase(), r),
-        None => (spec.trim().to_ascii_lowercase(), ""),
-    };
-    let mut params = Vec::new();
-    for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let (k, v) = kv.split_once('=').ok_or_else(|| {
-            bad(format!(
-                "filter '{spec}': parameter '{kv}' is not key=value"
-            ))
-        })?;
-        let v: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| bad(format!("filter '{spec}': '{v}' is not a number")))?;
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(bad(format!(
-                "filter '{spec}': {k} must be finite and non-negative"
-            )));
-        }
-        params.push((k.trim().to_ascii_lowercase(), v));
-    }
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
-        return Err(bad(format!("sample rate {rate_hz} Hz")));
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidInput,
+            format!("sample rate {rate_hz} Hz"),
+        ));
     }
-    let (kind, integrator) = match name.as_str() {
-        "poisson-rect" => (FilterKind::Poisson, Some(Integrator::Rectangle)),
-        n => (
-            n.parse::<FilterKind>().map_err(|_| {
-                bad(format!(
-                    "unknown filter '{n}' (known: {})",
-                    FILTER_NAMES.join(", ")
-                ))
-            })?,
-            None,
-        ),
-    };
-    let allowed: &[&str] = match kind {
-        FilterKind::Complementary => &["tau", "k"],
-        FilterKind::Mahony => &["kp", "ki"],
-        FilterKind::Madgwick => &["beta"],
-        FilterKind::Dynamic => &["bandwidth"],
-        _ => &[],
-    };
-    let mut gains = Gains {
-        integrator,
-        ..Gains::default()
-    };
-    for (k, v) in &params {
-        let v = *v;
-        match (kind, k.as_str()) {
-            (FilterKind::Complementary, "tau") => {
-                if v <= 0.0 {
-                    return Err(bad("complementary: tau must be positive".into()));
-                }
-                gains.complementary_k = Complementary::k_for(v, 1.0 / rate_hz);
-            }
-            (FilterKind::Complementary, "k") => gains.complementary_k = v,
-            (FilterKind::Mahony, "kp") => gains.mahony_kp = v,
-            (FilterKind::Mahony, "ki") => gains.mahony_ki = v,
-            (FilterKind::Madgwick, "beta") => gains.madgwick_beta = v,
-            (FilterKind::Dynamic, "bandwidth") => gains.dynamic_bandwidth_rad_s = v,
-            _ => {
-                return Err(bad(format!(
-                    "filter '{name}' has no parameter '{k}' (has: {})",
-                    if allowed.is_empty() {
-                        "none".to_string()
-                    } else {
-                        allowed.join(", ")
-                    }
-                )));
-            }
-        }
-    }
-    if kind == FilterKind::Complementary
-        && params.iter().any(|(k, _)| k == "tau")
-        && params.iter().any(|(k, _)| k == "k")
-    {
-        return Err(bad(format!(
-            "filter '{spec}': give complementary either tau or k, not both"
-        )));
-    }
-    let config = FilterConfig::new(kind).with_gains(gains);
-    // Checks every gain once here, so building a fresh filter below cannot fail.
-    config
-        .validate()
-        .map_err(|e| bad(format!("filter '{spec}': {}", e.message)))?;
-    Ok(Box::new(move || -> Box<dyn AttitudeFilter> {
-        config.build().expect("gains validated by filter_factory")
-    }))
+    parse_spec(spec)
 }
 
 #[cfg(test)]
@@ -162,18 +69,19 @@ mod tests {
     fn names_and_parameters() {
         for n in FILTER_NAMES {
             let f = filter_factory(n, 100.0).unwrap();
-            assert_eq!(f().name().split('-').next(), n.split('-').next());
+            assert_eq!(f.kind().name(), n.split('-').next().unwrap());
         }
         assert!(filter_factory(BEST_FILTER, 200.0).is_ok());
         assert!(filter_factory("mahony:kp=0.5", 100.0).is_ok());
         assert_eq!(
             filter_factory("kalman", 100.0).err().unwrap().kind,
-            ErrorKind::InvalidInput
+            crate::ErrorKind::InvalidInput
         );
         assert!(filter_factory("mahony:beta=1", 100.0).is_err());
         assert!(filter_factory("mahony:kp=x", 100.0).is_err());
         assert!(filter_factory("complementary:tau=0", 100.0).is_err());
         assert!(filter_factory("complementary:tau=1,k=0.1", 100.0).is_err());
+        assert!(filter_factory("mahony:kp=1,kp=2", 100.0).is_err());
         assert!(filter_factory("complementary:k=1.5", 100.0).is_err());
         assert!(filter_factory("poisson:kp=1", 100.0).is_err());
         assert!(filter_factory("dynamic:bandwidth=0", 100.0).is_err());

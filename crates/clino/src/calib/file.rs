@@ -226,7 +226,8 @@ impl CalibrationFile {
         }
     }
 
-    fn check_temp(&self, temp_c: Option<f64>) -> Result<()> {
+    /// Check that every temperature-dependent model is valid at `temp_c` (unless the file allows extrapolation).
+    pub fn check_temp(&self, temp_c: Option<f64>) -> Result<()> {
         for (kind, e) in [
             (TriadKind::Accel, &self.accel),
             (TriadKind::Gyro, &self.gyro),

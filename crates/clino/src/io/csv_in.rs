@@ -347,15 +347,19 @@ impl<R: Read> ImuCsvReader<R> {
         self.cols.movement.is_some()
     }
 
-    /// Header name of the first non-finite gyro or accelerometer cell of `row`.
-    pub fn dropout_column(&self, row: &ImuRow) -> Option<&str> {
+    /// Header name of the first gyro or accelerometer cell of `row` that the
+    /// pipeline cannot use: not finite, or beyond the physical bounds
+    /// ([`clino_core::pipeline::MAX_RATE_RAD_S`], [`clino_core::pipeline::MAX_SPECIFIC_FORCE_M_S2`]).
+    pub fn unusable_column(&self, row: &ImuRow) -> Option<&str> {
+        use clino_core::pipeline::{MAX_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2};
         let s = &row.sample;
+        let bad = |v: f64, max: f64| !(v.abs() <= max);
         (0..3)
-            .find(|&k| !s.gyr_rad_s[k].is_finite())
+            .find(|&k| bad(s.gyr_rad_s[k], MAX_RATE_RAD_S))
             .map(|k| self.cols.gyr[k])
             .or_else(|| {
                 (0..3)
-                    .find(|&k| !s.acc_m_s2[k].is_finite())
+                    .find(|&k| bad(s.acc_m_s2[k], MAX_SPECIFIC_FORCE_M_S2))
                     .map(|k| self.cols.acc[k])
             })
             .map(|i| self.header[i].as_str())
@@ -411,6 +415,15 @@ impl<R: Read> ImuCsvReader<R> {
             self.err(ErrorKind::MissingColumn, msg).at_column(want)
         };
         let t = self.find(&["t_s"]);
+        if let (Some(i), Some(_)) = (t, self.dt_rate) {
+            // a flag that would silently do nothing is refused
+            return Err(self
+                .err(
+                    ErrorKind::InvalidInput,
+                    "the file has a time column, so a sample rate (--rate) would be ignored: drop --rate, or the time column",
+                )
+                .at_column(self.header[i].clone()));
+        }
         if t.is_none() && self.dt_rate.is_none() {
             return Err(missing(
                 "t_s",

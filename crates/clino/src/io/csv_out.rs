@@ -77,6 +77,11 @@ impl<W: Write> CsvLineWriter<W> {
         Ok(())
     }
 
+    /// Flush what has been written so far to the sink.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+
     /// Flush everything and give back the sink.
     pub fn finish(self) -> std::io::Result<W> {
         self.out.into_inner().map_err(|e| e.into_error())

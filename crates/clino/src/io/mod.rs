@@ -2,7 +2,8 @@
 //!
 //! * [`ImuCsvReader`] streams an IMU recording from CSV, one [`ImuRow`] at a
 //!   time, in constant memory;
-//! * [`CsvLineWriter`] writes numeric CSV rows without allocating per row.
+//! * [`CsvLineWriter`] writes numeric CSV rows without allocating per row;
+//! * [`AtomicFile`] makes an output file appear whole or not at all.
 //!
 //! The CSV layout is that of the BROAD benchmark files shipped with the
 //! project (Laidig, Caruso, Cereatti, Seel, "BROAD — A Benchmark for Robust
@@ -10,8 +11,10 @@
 //! `#` are comments, the first other line is the header, and columns are found
 //! by their header name, in any order.
 
+mod atomic;
 mod csv_in;
 mod csv_out;
 
+pub use atomic::AtomicFile;
 pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
 pub use csv_out::CsvLineWriter;

@@ -24,6 +24,7 @@
 //! z axis), but its direction in the body frame turns with β.
 
 use super::{Motion, Truth};
+use crate::fusion::{FilterKind, FilterSpec, Pipeline};
 use clino_core::{Attitude, Vec3};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::f64::consts::PI;
@@ -315,57 +316,44 @@ pub struct SlewingScore {
     pub compensated_max_deg: f64,
 }
 
-/// Inclination error (BROAD form, heading-free) between two attitudes, rad.
-pub fn inclination_error(est: &Attitude, truth: &Attitude) -> f64 {
-    let e = est * truth.inverse();
-    2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()
-}
-
-/// A named filter constructor, as [`evaluate`] takes them.
-pub type FilterMaker<'a> = (&'a str, &'a dyn Fn() -> Box<dyn clino_core::AttitudeFilter>);
-
 /// Simulate `duration_s` of the machine through `model` at `rate_hz` (seed
-/// `seed`) and score each filter with and without compensation. Errors are
-/// scored after the initial rest (while the machine slews and dwells).
-///
-/// `filters` gives a name and a constructor for each filter.
+/// `seed`) and score each filter with and without compensation, each run
+/// through the one [`Pipeline`]. Errors (BROAD's inclination error,
+/// [`crate::eval::inclination_error`]) are scored after the initial rest
+/// (while the machine slews and dwells); a non-finite estimate makes the
+/// score NaN.
 pub fn evaluate(
     platform: &SlewingPlatform,
     model: &super::ImuModel,
     rate_hz: f64,
     duration_s: f64,
     seed: u64,
-    filters: &[FilterMaker<'_>],
+    filters: &[FilterSpec],
 ) -> Vec<SlewingScore> {
-    use clino_core::compensate::Compensated;
+    use crate::eval::{Rms, inclination_error};
     let samples = model.simulate(platform, rate_hz, duration_s, seed);
     let truth: Vec<Attitude> = (0..samples.len())
         .map(|k| platform.truth(samples[k].t_s).attitude)
         .collect();
-    let dt = 1.0 / rate_hz;
-    let score = |f: &mut dyn clino_core::AttitudeFilter| {
-        let (mut s2, mut n, mut max) = (0.0, 0usize, 0.0f64);
+    let score = |mut p: Pipeline| {
+        let (mut rms, mut max) = (Rms::default(), 0.0f64);
         for (smp, q) in samples.iter().zip(&truth) {
-            f.update(smp.gyr_rad_s, smp.acc_m_s2, dt);
+            let est = p.update(smp).attitude.unwrap_or_else(Attitude::identity);
             if smp.t_s > platform.initial_rest_s {
-                let e = inclination_error(&f.attitude(), q);
-                s2 += e * e;
-                n += 1;
+                let e = inclination_error(&est, q);
+                rms.push(e);
                 max = max.max(e);
             }
         }
-        ((s2 / n.max(1) as f64).sqrt().to_degrees(), max.to_degrees())
+        (rms.value().to_degrees(), max.to_degrees())
     };
     filters
         .iter()
-        .map(|(name, make)| {
-            let mut plain = make();
-            let (unc, _) = score(plain.as_mut());
-            let mut inner = make();
-            let mut comp = Compensated::new(inner.as_mut(), platform.lever_arm_m);
-            let (com, max) = score(&mut comp);
+        .map(|spec| {
+            let (unc, _) = score(Pipeline::new(*spec));
+            let (com, max) = score(Pipeline::new(*spec).with_lever_arm(Some(platform.lever_arm_m)));
             SlewingScore {
-                filter: name.to_string(),
+                filter: crate::fusion::spec_text(spec),
                 uncompensated_deg: unc,
                 compensated_deg: com,
                 compensated_max_deg: max,
@@ -377,21 +365,18 @@ pub fn evaluate(
 #[cfg(test)]
 mod eval_tests {
     use super::*;
-    use clino_core::filter::{Dynamic, Mahony};
 
     #[test]
     fn compensation_makes_the_dynamic_filter_exact_on_a_slewing_excavator() {
         let m = SlewingPlatform::default();
         let model = sensor();
-        let dynamic = || Box::new(Dynamic::default()) as Box<dyn clino_core::AttitudeFilter>;
-        let mahony = || Box::new(Mahony::default()) as Box<dyn clino_core::AttitudeFilter>;
         let r = evaluate(
             &m,
             &model,
             200.0,
             100.0,
             1,
-            &[("dynamic", &dynamic), ("mahony", &mahony)],
+            &[FilterKind::Dynamic, FilterKind::Mahony].map(FilterSpec::default_for),
         );
         let (d, mh) = (&r[0], &r[1]);
         assert!(d.compensated_deg <= 0.1, "{d:?}");
@@ -405,15 +390,9 @@ mod eval_tests {
 /// The `clino demo` section: a slewing excavator on a slope, every filter with
 /// and without lever-arm compensation (100 s at 200 Hz, seed 1).
 pub fn demo_summary() -> crate::Result<String> {
-    use clino_core::filter::{Complementary, Dynamic, Madgwick, Mahony};
     use std::fmt::Write;
     let m = SlewingPlatform::default();
     let model = sensor();
-    let dynamic = || Box::new(Dynamic::default()) as Box<dyn clino_core::AttitudeFilter>;
-    let mahony = || Box::new(Mahony::default()) as Box<dyn clino_core::AttitudeFilter>;
-    let madgwick = || Box::new(Madgwick::default()) as Box<dyn clino_core::AttitudeFilter>;
-    let complementary =
-        || Box::new(Complementary::default()) as Box<dyn clino_core::AttitudeFilter>;
     let scores = evaluate(
         &m,
         &model,
@@ -421,11 +400,12 @@ pub fn demo_summary() -> crate::Result<String> {
         100.0,
         1,
         &[
-            ("dynamic", &dynamic),
-            ("mahony", &mahony),
-            ("madgwick", &madgwick),
-            ("complementary", &complementary),
-        ],
+            FilterKind::Dynamic,
+            FilterKind::Mahony,
+            FilterKind::Madgwick,
+            FilterKind::Complementary,
+        ]
+        .map(FilterSpec::default_for),
     );
     let mut s = String::new();
     let p = m.lever_arm_m;
