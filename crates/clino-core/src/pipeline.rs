@@ -311,7 +311,7 @@ impl Pipeline {
         let dt = match self.last_t {
             Some(t0) => {
                 let dt = s.t_s - t0;
-                if !(dt > 0.0) {
+                if dt.is_nan() || dt <= 0.0 {
                     return Status::Dropout;
                 }
                 Some(dt)

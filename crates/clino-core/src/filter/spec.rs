@@ -666,6 +666,8 @@ impl FilterSpec {
 /// Any of the five filters, by value (no allocation, no dynamic dispatch):
 /// what [`FilterSpec::build`] makes and [`crate::pipeline::Pipeline`] runs.
 #[derive(Clone, Debug)]
+// the core allocates nothing: the filter is held by value, not boxed
+#[allow(clippy::large_enum_variant)]
 pub enum AnyFilter {
     /// [`Poisson`].
     Poisson(Poisson),

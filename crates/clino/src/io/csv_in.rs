@@ -353,7 +353,7 @@ impl<R: Read> ImuCsvReader<R> {
     pub fn unusable_column(&self, row: &ImuRow) -> Option<&str> {
         use clino_core::pipeline::{MAX_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2};
         let s = &row.sample;
-        let bad = |v: f64, max: f64| !(v.abs() <= max);
+        let bad = |v: f64, max: f64| v.is_nan() || v.abs() > max;
         (0..3)
             .find(|&k| bad(s.gyr_rad_s[k], MAX_RATE_RAD_S))
             .map(|k| self.cols.gyr[k])
