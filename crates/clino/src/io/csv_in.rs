@@ -8,6 +8,7 @@ use std::str::FromStr;
 use clino_core::{Attitude, G0, ImuSample, Vec3};
 use nalgebra::Quaternion;
 
+use super::TableReader;
 use crate::{Error, ErrorKind, Result};
 
 /// Unit of the gyroscope columns.
@@ -152,30 +153,6 @@ struct Columns {
     movement: Option<usize>,
 }
 
-/// Wraps the byte source to know where it ends (for exact line numbers of a
-/// last row without a trailing newline).
-struct Tracked<R> {
-    inner: R,
-    total: u64,
-    last: u8,
-    eof: bool,
-}
-
-impl<R: Read> Read for Tracked<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        if n == 0 {
-            if !buf.is_empty() {
-                self.eof = true;
-            }
-        } else {
-            self.total += n as u64;
-            self.last = buf[n - 1];
-        }
-        Ok(n)
-    }
-}
-
 /// Streaming reader of an IMU recording in CSV (BROAD layout).
 ///
 /// * Lines starting with `#` are comments; blank lines are skipped.
@@ -204,73 +181,43 @@ impl<R: Read> Read for Tracked<R> {
 /// assert!(r.next_row().unwrap().is_none());
 /// ```
 pub struct ImuCsvReader<R: Read> {
-    rdr: csv::Reader<Tracked<R>>,
-    rec: csv::ByteRecord,
-    file: PathBuf,
-    header: Vec<String>,
+    table: TableReader<R>,
     cols: Columns,
     gyr_scale: f64,
     acc_scale: f64,
     dt_rate: Option<f64>,
-    rows: u64,
     last_t: Option<f64>,
-    line: u64,
-    header_line: u64,
-    done: bool,
+    failed: bool,
 }
 
 impl ImuCsvReader<File> {
     /// Open a file.
     pub fn from_path(path: impl AsRef<Path>, opts: &ReadOptions) -> Result<Self> {
-        let path = path.as_ref();
-        let f = File::open(path).map_err(|e| Error::from(e).in_file(path))?;
-        Self::new(f, path, opts)
+        Self::from_table(TableReader::open(path)?, opts)
     }
-}
-
-fn parse_f64(cell: &[u8]) -> Option<f64> {
-    let cell = cell.trim_ascii();
-    if cell.is_empty() {
-        return Some(f64::NAN);
-    }
-    std::str::from_utf8(cell).ok()?.parse::<f64>().ok()
 }
 
 impl<R: Read> ImuCsvReader<R> {
     /// Read the header from `source`; `name` is the file name used in errors.
     pub fn new(source: R, name: impl Into<PathBuf>, opts: &ReadOptions) -> Result<Self> {
-        let file = name.into();
-        let rdr = csv::ReaderBuilder::new()
-            .has_headers(false)
-            .flexible(true)
-            .comment(Some(b'#'))
-            .terminator(csv::Terminator::Any(b'\n'))
-            .buffer_capacity(1 << 16)
-            .from_reader(Tracked {
-                inner: source,
-                total: 0,
-                last: 0,
-                eof: false,
-            });
+        Self::from_table(TableReader::new(source, name)?, opts)
+    }
+
+    /// The IMU reader over a table whose header has been read.
+    pub fn from_table(table: TableReader<R>, opts: &ReadOptions) -> Result<Self> {
         if let Some(rate) = opts.rate_hz
             && !(rate.is_finite() && rate > 0.0)
         {
-            return Err(Error::new(
+            return Err(table.err(
                 ErrorKind::InvalidInput,
                 format!("sample rate must be a positive number of Hz, got {rate}"),
-            )
-            .in_file(&file));
+            ));
         }
         if !(opts.g.is_finite() && opts.g > 0.0) {
-            return Err(
-                Error::new(ErrorKind::InvalidInput, "gravity must be positive").in_file(&file),
-            );
+            return Err(table.err(ErrorKind::InvalidInput, "gravity must be positive"));
         }
         let mut me = Self {
-            rdr,
-            rec: csv::ByteRecord::with_capacity(256, 32),
-            file,
-            header: Vec::new(),
+            table,
             cols: Columns {
                 t: None,
                 gyr: [0; 3],
@@ -286,55 +233,31 @@ impl<R: Read> ImuCsvReader<R> {
                 AccelUnit::G => opts.g,
             },
             dt_rate: opts.rate_hz.map(|r| 1.0 / r),
-            rows: 0,
             last_t: None,
-            line: 0,
-            header_line: 0,
-            done: false,
+            failed: false,
         };
-        if !me.read_record()? {
-            return Err(me
-                .err(
-                    ErrorKind::Empty,
-                    "the file is empty: no header line (nor data)",
-                )
-                .at_line(me.line.max(1)));
-        }
-        me.header = me
-            .rec
-            .iter()
-            .map(|f| {
-                let s = String::from_utf8_lossy(f.trim_ascii());
-                // a UTF-8 byte-order mark (spreadsheet exports) is not part of the first name
-                s.trim_start_matches('\u{feff}')
-                    .trim_matches('"')
-                    .to_string()
-            })
-            .collect();
-        let header_line = me.line;
-        me.header_line = header_line;
-        me.cols = me.find_columns(opts).map_err(|e| e.at_line(header_line))?;
+        me.cols = me.find_columns(opts)?;
         Ok(me)
     }
 
     /// The header names, in file order.
     pub fn header(&self) -> &[String] {
-        &self.header
+        self.table.header()
     }
 
     /// 1-based line of the header.
     pub fn header_line(&self) -> u64 {
-        self.header_line
+        self.table.header_line()
     }
 
     /// The file name used in errors.
     pub fn file(&self) -> &Path {
-        &self.file
+        self.table.file()
     }
 
     /// Number of data rows returned so far.
     pub fn rows_read(&self) -> u64 {
-        self.rows
+        self.table.rows_read()
     }
 
     /// True when the file has a reference attitude (`ref_q{w,x,y,z}`).
@@ -362,58 +285,19 @@ impl<R: Read> ImuCsvReader<R> {
                     .find(|&k| bad(s.acc_m_s2[k], MAX_SPECIFIC_FORCE_M_S2))
                     .map(|k| self.cols.acc[k])
             })
-            .map(|i| self.header[i].as_str())
+            .map(|i| self.table.header()[i].as_str())
     }
 
     fn err(&self, kind: ErrorKind, msg: impl Into<String>) -> Error {
-        Error::new(kind, msg).in_file(&self.file)
-    }
-
-    /// Read the next non-blank record into `self.rec`, setting `self.line`.
-    fn read_record(&mut self) -> Result<bool> {
-        loop {
-            let more = self.rdr.read_byte_record(&mut self.rec).map_err(|e| {
-                let line = e.position().map(|p| p.line()).unwrap_or(self.line + 1);
-                let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) {
-                    ErrorKind::Io
-                } else {
-                    ErrorKind::Parse
-                };
-                self.err(kind, e.to_string()).at_line(line)
-            })?;
-            let end = self.rdr.position();
-            if !more {
-                self.line = end.line();
-                return Ok(false);
-            }
-            // csv counts every '\n' it consumed; the record's own terminator is
-            // one of them unless the record ends the file without a newline.
-            let src = self.rdr.get_ref();
-            let unterminated = src.eof && end.byte() == src.total && src.last != b'\n';
-            self.line = end.line() - u64::from(!unterminated);
-            // Blank line ("\n" is skipped by csv itself; "\r\n" or spaces arrive as one empty field).
-            let blank = self.rec.len() == 1 && self.rec[0].trim_ascii().is_empty();
-            if !blank {
-                return Ok(true);
-            }
-        }
+        self.table.err(kind, msg)
     }
 
     fn find(&self, names: &[&str]) -> Option<usize> {
-        names
-            .iter()
-            .find_map(|n| self.header.iter().position(|h| h.eq_ignore_ascii_case(n)))
+        self.table.find(names)
     }
 
     fn find_columns(&self, opts: &ReadOptions) -> Result<Columns> {
-        let missing = |want: &str, hint: String| {
-            let mut msg = format!("missing column '{want}'");
-            if !hint.is_empty() {
-                msg.push_str(&format!(" ({hint})"));
-            }
-            msg.push_str(&format!("; header has: {}", self.header.join(",")));
-            self.err(ErrorKind::MissingColumn, msg).at_column(want)
-        };
+        let missing = |want: &str, hint: String| self.table.missing(want, &hint);
         let t = self.find(&["t_s"]);
         if let (Some(i), Some(_)) = (t, self.dt_rate) {
             // a flag that would silently do nothing is refused
@@ -422,7 +306,8 @@ impl<R: Read> ImuCsvReader<R> {
                     ErrorKind::InvalidInput,
                     "the file has a time column, so a sample rate (--rate) would be ignored: drop --rate, or the time column",
                 )
-                .at_column(self.header[i].clone()));
+                .at_line(self.table.header_line())
+                .at_column(self.table.header()[i].clone()));
         }
         if t.is_none() && self.dt_rate.is_none() {
             return Err(missing(
@@ -519,31 +404,7 @@ impl<R: Read> ImuCsvReader<R> {
     }
 
     fn cell(&self, i: usize) -> Result<f64> {
-        let name = || self.header[i].clone();
-        let Some(raw) = self.rec.get(i) else {
-            return Err(self
-                .err(
-                    ErrorKind::Parse,
-                    format!(
-                        "row has {} fields but the header has {}",
-                        self.rec.len(),
-                        self.header.len()
-                    ),
-                )
-                .at_line(self.line)
-                .at_column(name()));
-        };
-        parse_f64(raw).ok_or_else(|| {
-            self.err(
-                ErrorKind::Parse,
-                format!(
-                    "not a number: '{}'",
-                    String::from_utf8_lossy(raw.trim_ascii())
-                ),
-            )
-            .at_line(self.line)
-            .at_column(name())
-        })
+        self.table.f64(i)
     }
 
     fn vec3(&self, idx: [usize; 3], scale: f64) -> Result<Vec3> {
@@ -555,48 +416,18 @@ impl<R: Read> ImuCsvReader<R> {
     /// A file with a header but no data row is an error ([`ErrorKind::Empty`]),
     /// reported by the first call.
     pub fn next_row(&mut self) -> Result<Option<ImuRow>> {
-        if self.done {
+        if !self.table.next_record()? {
             return Ok(None);
-        }
-        if !self.read_record()? {
-            self.done = true;
-            if self.rows == 0 {
-                return Err(self
-                    .err(ErrorKind::Empty, "the file has a header but no data rows")
-                    .at_line(self.header_line));
-            }
-            return Ok(None);
-        }
-        if self.rec.len() != self.header.len() {
-            let col = self
-                .header
-                .get(self.rec.len())
-                .or(self.header.last())
-                .cloned()
-                .unwrap_or_default();
-            return Err(self
-                .err(
-                    ErrorKind::Parse,
-                    format!(
-                        "row has {} fields but the header has {}",
-                        self.rec.len(),
-                        self.header.len()
-                    ),
-                )
-                .at_line(self.line)
-                .at_column(col));
         }
         let t_s = match self.cols.t {
             Some(i) => {
                 let t = self.cell(i)?;
                 if !t.is_finite() {
-                    return Err(self
-                        .err(
-                            ErrorKind::InvalidInput,
-                            format!("time stamp is not a finite number ({t})"),
-                        )
-                        .at_line(self.line)
-                        .at_column(self.header[i].clone()));
+                    return Err(self.table.err_at(
+                        i,
+                        ErrorKind::InvalidInput,
+                        format!("time stamp is not a finite number ({t})"),
+                    ));
                 }
                 if let Some(prev) = self.last_t
                     && t <= prev
@@ -606,17 +437,15 @@ impl<R: Read> ImuCsvReader<R> {
                     } else {
                         "goes backwards"
                     };
-                    return Err(self
-                        .err(
-                            ErrorKind::TimeNotIncreasing,
-                            format!("time {what}: {t} s after {prev} s"),
-                        )
-                        .at_line(self.line)
-                        .at_column(self.header[i].clone()));
+                    return Err(self.table.err_at(
+                        i,
+                        ErrorKind::TimeNotIncreasing,
+                        format!("time {what}: {t} s after {prev} s"),
+                    ));
                 }
                 t
             }
-            None => self.rows as f64 * self.dt_rate.unwrap_or(f64::NAN),
+            None => (self.table.rows_read() - 1) as f64 * self.dt_rate.unwrap_or(f64::NAN),
         };
         let gyr = self.vec3(self.cols.gyr, self.gyr_scale)?;
         let acc = self.vec3(self.cols.acc, self.acc_scale)?;
@@ -648,9 +477,8 @@ impl<R: Read> ImuCsvReader<R> {
             None => None,
         };
         self.last_t = Some(t_s);
-        self.rows += 1;
         Ok(Some(ImuRow {
-            line: self.line,
+            line: self.table.line(),
             sample: ImuSample {
                 t_s,
                 gyr_rad_s: gyr,
@@ -667,11 +495,14 @@ impl<R: Read> ImuCsvReader<R> {
 impl<R: Read> Iterator for ImuCsvReader<R> {
     type Item = Result<ImuRow>;
     fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
         match self.next_row() {
             Ok(Some(r)) => Some(Ok(r)),
             Ok(None) => None,
             Err(e) => {
-                self.done = true;
+                self.failed = true;
                 Some(Err(e))
             }
         }

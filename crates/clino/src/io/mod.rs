@@ -1,5 +1,7 @@
 //! Recordings in and results out.
 //!
+//! * [`TableReader`] is the one CSV reader: its rules (comments, byte-order
+//!   mark, CRLF, names, cells, errors) hold for every recording clino reads;
 //! * [`ImuCsvReader`] streams an IMU recording from CSV, one [`ImuRow`] at a
 //!   time, in constant memory;
 //! * [`CsvLineWriter`] writes numeric CSV rows without allocating per row;
@@ -14,7 +16,9 @@
 mod atomic;
 mod csv_in;
 mod csv_out;
+mod table;
 
 pub use atomic::AtomicFile;
 pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
 pub use csv_out::CsvLineWriter;
+pub use table::TableReader;

@@ -1,0 +1,358 @@
+//! The one CSV table reader: every recording clino reads goes through it.
+//!
+//! The rules, in one place:
+//!
+//! * a UTF-8 byte-order mark at the start is not part of the first name;
+//! * lines starting with `#` are comments, before the header and between rows;
+//!   blank lines are skipped; lines end with LF or CRLF;
+//! * the first other line is the header; columns are found by name, ASCII
+//!   case ignored, surrounding spaces and quotes trimmed; other columns are
+//!   ignored (their cells are never parsed, so NaN there is no error);
+//! * every data row has as many fields as the header;
+//! * a numeric cell is a decimal number, `nan`/`inf` in any case, or empty
+//!   (read as NaN); anything else is an error;
+//! * every error names the file, the 1-based line (comment lines counted) and
+//!   the column.
+//!
+//! Each row is parsed from one reused [`csv::ByteRecord`]: no allocation per
+//! row, memory flat in the length of the file.
+
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use crate::{Error, ErrorKind, Result};
+
+/// Wraps the byte source to drop a leading UTF-8 byte-order mark (so that a
+/// `#` right after it still starts a comment) and to know where it ends (for
+/// exact line numbers of a last row without a trailing newline).
+struct Tracked<R> {
+    inner: R,
+    total: u64,
+    last: u8,
+    eof: bool,
+    /// bytes read ahead while looking for the mark, not yet handed out
+    head: [u8; 3],
+    head_len: usize,
+    started: bool,
+}
+
+impl<R: Read> Tracked<R> {
+    fn new(inner: R) -> Self {
+        Self {
+            inner,
+            total: 0,
+            last: 0,
+            eof: false,
+            head: [0; 3],
+            head_len: 0,
+            started: false,
+        }
+    }
+}
+
+impl<R: Read> Read for Tracked<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if !self.started {
+            self.started = true;
+            let mut got = 0;
+            while got < 3 {
+                let n = self.inner.read(&mut self.head[got..])?;
+                if n == 0 {
+                    break;
+                }
+                got += n;
+            }
+            self.head_len = if got == 3 && self.head == [0xEF, 0xBB, 0xBF] {
+                0
+            } else {
+                got
+            };
+        }
+        if self.head_len > 0 && !buf.is_empty() {
+            let n = self.head_len.min(buf.len());
+            buf[..n].copy_from_slice(&self.head[..n]);
+            self.head.copy_within(n..self.head_len, 0);
+            self.head_len -= n;
+            self.total += n as u64;
+            self.last = buf[n - 1];
+            return Ok(n);
+        }
+        let n = self.inner.read(buf)?;
+        if n == 0 {
+            if !buf.is_empty() {
+                self.eof = true;
+            }
+        } else {
+            self.total += n as u64;
+            self.last = buf[n - 1];
+        }
+        Ok(n)
+    }
+}
+
+/// Streaming reader of a CSV table by header name (the rules are in the
+/// [module docs](self)).
+///
+/// ```
+/// use clino::io::TableReader;
+/// let text = "\u{feff}# exported\r\nT_S, x\r\n0, 1.5\r\n# pause\r\n1,\r\n";
+/// let mut t = TableReader::new(text.as_bytes(), "inline.csv").unwrap();
+/// let (ti, xi) = (t.require("t_s").unwrap(), t.require("x").unwrap());
+/// assert!(t.next_record().unwrap());
+/// assert_eq!((t.line(), t.f64(ti).unwrap(), t.f64(xi).unwrap()), (3, 0.0, 1.5));
+/// assert!(t.next_record().unwrap());
+/// assert_eq!(t.line(), 5);
+/// assert!(t.f64(xi).unwrap().is_nan());
+/// assert!(!t.next_record().unwrap());
+/// ```
+pub struct TableReader<R: Read> {
+    rdr: csv::Reader<Tracked<R>>,
+    rec: csv::ByteRecord,
+    file: PathBuf,
+    header: Vec<String>,
+    line: u64,
+    header_line: u64,
+    rows: u64,
+    done: bool,
+}
+
+impl TableReader<std::fs::File> {
+    /// Open a file (a directory or a missing file is an error naming it).
+    pub fn open(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        if path.is_dir() {
+            return Err(Error::new(
+                ErrorKind::InvalidInput,
+                "is a directory, not a recording",
+            )
+            .in_file(path));
+        }
+        let f = std::fs::File::open(path).map_err(|e| Error::from(e).in_file(path))?;
+        Self::new(f, path)
+    }
+}
+
+/// Parse one numeric cell: empty → NaN; `None` when it is not a number.
+pub(crate) fn parse_f64(cell: &[u8]) -> Option<f64> {
+    let cell = cell.trim_ascii();
+    if cell.is_empty() {
+        return Some(f64::NAN);
+    }
+    std::str::from_utf8(cell).ok()?.parse::<f64>().ok()
+}
+
+impl<R: Read> TableReader<R> {
+    /// Read the header from `source`; `name` is the file name used in errors.
+    pub fn new(source: R, name: impl Into<PathBuf>) -> Result<Self> {
+        let rdr = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .flexible(true)
+            .comment(Some(b'#'))
+            .terminator(csv::Terminator::Any(b'\n'))
+            .buffer_capacity(1 << 16)
+            .from_reader(Tracked::new(source));
+        let mut me = Self {
+            rdr,
+            rec: csv::ByteRecord::with_capacity(256, 32),
+            file: name.into(),
+            header: Vec::new(),
+            line: 0,
+            header_line: 0,
+            rows: 0,
+            done: false,
+        };
+        if !me.read_raw()? {
+            return Err(me
+                .err(
+                    ErrorKind::Empty,
+                    "the file is empty: no header line (nor data)",
+                )
+                .at_line(me.line.max(1)));
+        }
+        me.header = me
+            .rec
+            .iter()
+            .map(|f| {
+                String::from_utf8_lossy(f.trim_ascii())
+                    .trim_matches('"')
+                    .trim()
+                    .to_string()
+            })
+            .collect();
+        me.header_line = me.line;
+        if me.header.len() == 1 && me.header[0].contains(';') {
+            return Err(me
+                .err(
+                    ErrorKind::Parse,
+                    "the header has one column holding ';': fields must be separated by commas",
+                )
+                .at_line(me.header_line));
+        }
+        Ok(me)
+    }
+
+    /// The header names, in file order.
+    pub fn header(&self) -> &[String] {
+        &self.header
+    }
+
+    /// 1-based line of the header.
+    pub fn header_line(&self) -> u64 {
+        self.header_line
+    }
+
+    /// 1-based line of the current record.
+    pub fn line(&self) -> u64 {
+        self.line
+    }
+
+    /// The file name used in errors.
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
+    /// Data records returned so far.
+    pub fn rows_read(&self) -> u64 {
+        self.rows
+    }
+
+    /// Index of the first column named any of `names` (ASCII case ignored).
+    pub fn find(&self, names: &[&str]) -> Option<usize> {
+        names
+            .iter()
+            .find_map(|n| self.header.iter().position(|h| h.eq_ignore_ascii_case(n)))
+    }
+
+    /// Index of column `name`, or an error naming it and the header.
+    pub fn require(&self, name: &str) -> Result<usize> {
+        self.find(&[name])
+            .ok_or_else(|| self.missing(name, ""))
+    }
+
+    /// The error for a missing column `name`, with a hint.
+    pub fn missing(&self, name: &str, hint: &str) -> Error {
+        let mut msg = format!("missing column '{name}'");
+        if !hint.is_empty() {
+            msg.push_str(&format!(" ({hint})"));
+        }
+        msg.push_str(&format!("; header has: {}", self.header.join(",")));
+        self.err(ErrorKind::MissingColumn, msg)
+            .at_line(self.header_line)
+            .at_column(name)
+    }
+
+    /// An error in this file.
+    pub fn err(&self, kind: ErrorKind, msg: impl Into<String>) -> Error {
+        Error::new(kind, msg).in_file(&self.file)
+    }
+
+    /// An error at the current record and column `i`.
+    pub fn err_at(&self, i: usize, kind: ErrorKind, msg: impl Into<String>) -> Error {
+        self.err(kind, msg)
+            .at_line(self.line)
+            .at_column(self.header.get(i).cloned().unwrap_or_default())
+    }
+
+    /// Read the next non-blank record into `self.rec`, setting `self.line`.
+    fn read_raw(&mut self) -> Result<bool> {
+        loop {
+            let more = self.rdr.read_byte_record(&mut self.rec).map_err(|e| {
+                let line = e.position().map(|p| p.line()).unwrap_or(self.line + 1);
+                let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) {
+                    ErrorKind::Io
+                } else {
+                    ErrorKind::Parse
+                };
+                self.err(kind, e.to_string()).at_line(line)
+            })?;
+            let end = self.rdr.position();
+            if !more {
+                self.line = end.line();
+                return Ok(false);
+            }
+            // csv counts every '\n' it consumed; the record's own terminator is
+            // one of them unless the record ends the file without a newline.
+            let src = self.rdr.get_ref();
+            let unterminated = src.eof && end.byte() == src.total && src.last != b'\n';
+            self.line = end.line() - u64::from(!unterminated);
+            // Blank line ("\n" is skipped by csv itself; "\r\n" or spaces arrive as one empty field).
+            let blank = self.rec.len() == 1 && self.rec[0].trim_ascii().is_empty();
+            if !blank {
+                return Ok(true);
+            }
+        }
+    }
+
+    /// Advance to the next data record; `Ok(false)` at the end. A header with
+    /// no data row is an error ([`ErrorKind::Empty`]); so is a row whose
+    /// number of fields differs from the header's.
+    pub fn next_record(&mut self) -> Result<bool> {
+        if self.done {
+            return Ok(false);
+        }
+        if !self.read_raw()? {
+            self.done = true;
+            if self.rows == 0 {
+                return Err(self
+                    .err(ErrorKind::Empty, "the file has a header but no data rows")
+                    .at_line(self.header_line));
+            }
+            return Ok(false);
+        }
+        if self.rec.len() != self.header.len() {
+            self.done = true;
+            let col = self.rec.len().min(self.header.len().saturating_sub(1));
+            return Err(self.err_at(
+                col,
+                ErrorKind::Parse,
+                format!(
+                    "row has {} fields but the header has {}",
+                    self.rec.len(),
+                    self.header.len()
+                ),
+            ));
+        }
+        self.rows += 1;
+        Ok(true)
+    }
+
+    /// Cell `i` of the current record as a number (empty → NaN; NaN and inf
+    /// pass, see [`TableReader::finite`] for columns that must be finite).
+    pub fn f64(&self, i: usize) -> Result<f64> {
+        let raw = self.rec.get(i).unwrap_or(b"");
+        parse_f64(raw).ok_or_else(|| {
+            self.err_at(
+                i,
+                ErrorKind::Parse,
+                format!(
+                    "not a number: '{}'",
+                    String::from_utf8_lossy(raw.trim_ascii())
+                ),
+            )
+        })
+    }
+
+    /// Cell `i` as a finite number (an empty, NaN or infinite cell is an error).
+    pub fn finite(&self, i: usize) -> Result<f64> {
+        let x = self.f64(i)?;
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err_at(
+                i,
+                ErrorKind::InvalidInput,
+                format!("value must be a finite number, got '{}'", self.text(i)),
+            ))
+        }
+    }
+
+    /// Cell `i` as text (trimmed; invalid UTF-8 replaced).
+    pub fn text(&self, i: usize) -> String {
+        String::from_utf8_lossy(self.rec.get(i).unwrap_or(b"").trim_ascii()).into_owned()
+    }
+
+    /// Every cell of the current record as text.
+    pub fn texts(&self) -> Vec<String> {
+        (0..self.rec.len()).map(|i| self.text(i)).collect()
+    }
+}
