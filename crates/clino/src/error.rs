@@ -97,9 +97,28 @@ impl From<std::io::Error> for Error {
     }
 }
 
+/// A number for a message: 4 decimals, or 4 significant digits in
+/// exponent form when very large or small (never 309 digits of 1e308).
+pub(crate) fn short(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:.3e}")
+    } else {
+        format!("{}", (v * 1e4).round() / 1e4)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[test]
+    fn short_numbers_for_messages() {
+        assert_eq!(short(1e308), "1.000e308");
+        assert_eq!(short(43.54354142694413), "43.5435");
+        assert_eq!(short(-0.2), "-0.2");
+        assert_eq!(short(0.0), "0");
+        assert_eq!(short(f64::NAN), "NaN");
+    }
+
     #[test]
     fn display_names_file_line_column() {
         let e = Error::new(ErrorKind::Parse, "not a number: 'abc'")

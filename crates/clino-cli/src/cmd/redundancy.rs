@@ -30,8 +30,8 @@ enum Command {
     },
     /// Simulate a shaken cube with faulty chains: detection, diagnosis, restoration.
     Simulate {
-        /// Faulty chains, e.g. 2,3,9.
-        #[arg(long)]
+        /// Faulty chains: chain numbers 1–9 separated by commas, e.g. 2,3,9.
+        #[arg(long, value_name = "N,N,…")]
         faults: String,
         /// stuck | bias | drift | noise.
         #[arg(long, default_value = "bias")]
@@ -226,16 +226,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{:.1} ms", x * 1e3));
                 let pct =
                     |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{:.3} %", x * 100.0));
+                let list = |l: &str| {
+                    FaultSet::from_label(l).map_or_else(|_| l.to_string(), |s| s.to_list())
+                };
                 println!(
                     "faults {} ({}, magnitude {}) from {} s",
-                    r.faults,
+                    set.to_list(),
                     r.fault_kind.name(),
                     r.fault_magnitude,
                     r.onset_s
                 );
                 println!(
                     "diagnosed {} (source scheme: {})",
-                    r.diagnosed, r.diagnosed_source
+                    list(&r.diagnosed),
+                    list(&r.diagnosed_source)
                 );
                 println!(
                     "detection delay {}, isolation delay {}",
@@ -246,12 +250,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     "false alarms {} of {} windows before the fault",
                     r.false_alarm_windows, r.pre_onset_windows
                 );
+                let restored = match &r.restored_with {
+                    Some(l) if *l == r.faults => "restored".to_string(),
+                    Some(l) => format!("restored with the wrong chains {}", list(l)),
+                    None => "not restored".to_string(),
+                };
                 println!(
-                    "linear acceleration max relative error: faulty {}, restored {}, fault-free {}",
+                    "linear acceleration max relative error: faulty {}, {restored} {}, fault-free {}",
                     pct(Some(r.faulty_linear_acc_max_rel_error)),
                     pct(r.restored_linear_acc_max_rel_error),
                     pct(Some(r.fault_free_linear_acc_max_rel_error))
                 );
+            }
+            for w in &r.warnings {
+                eprintln!("clino: warning: {w}");
             }
         }
         Command::Sweep {

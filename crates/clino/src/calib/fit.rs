@@ -729,6 +729,32 @@ pub fn observations_from_poses(poses: &[Pose], kind: TriadKind) -> Vec<Observati
         .collect()
 }
 
+/// True when a Levenberg–Marquardt run ended at a usable solution: converged,
+/// or stopped at machine precision or the evaluation limit (the covariance
+/// check that follows catches a poor one).
+pub(crate) fn solver_succeeded(t: &levenberg_marquardt::TerminationReason) -> bool {
+    use levenberg_marquardt::TerminationReason as T;
+    t.was_successful() || matches!(t, T::NoImprovementPossible(_) | T::LostPatience)
+}
+
+/// A clear error for a failed Levenberg–Marquardt run of `what`.
+pub(crate) fn solver_error(what: &str, t: &levenberg_marquardt::TerminationReason) -> Error {
+    use levenberg_marquardt::TerminationReason as T;
+    let why = match t {
+        T::User(_) | T::Numerical(_) => {
+            "the residuals or their derivatives became non-finite during the iterations \
+             (a reading far outside what the model can fit, or poses that cannot determine it): \
+             check the recording for outliers and the static poses found"
+                .to_string()
+        }
+        T::NoParameters | T::NoResiduals | T::WrongDimensions(_) => {
+            format!("internal error: the problem is malformed ({t:?})")
+        }
+        other => format!("it stopped without converging ({other:?})"),
+    };
+    Error::new(ErrorKind::NotConverged, format!("{what} failed: {why}"))
+}
+
 /// Fit a triad model to observations. See the module documentation for the
 /// residuals, the solver and the convention that fixes unobservable rotations.
 ///
@@ -756,10 +782,24 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
             "no observation to fit (no usable pose)",
         ));
     }
-    if obs.iter().any(|o| !o.raw.iter().all(|v| v.is_finite())) {
+    // non-physical readings never reach the solver (the recording's bounds)
+    let max = match opt.kind {
+        TriadKind::Accel => super::recording::MAX_ACC_M_S2,
+        TriadKind::Gyro => super::recording::MAX_GYR_RAD_S,
+        TriadKind::Mag => super::recording::MAX_MAG_UT,
+    };
+    let bad = |v: &Vec3| !v.iter().all(|x| x.abs() <= max);
+    if let Some(i) = obs
+        .iter()
+        .position(|o| bad(&o.raw) || o.ref_vector.as_ref().is_some_and(bad))
+    {
         return Err(Error::new(
             ErrorKind::InvalidInput,
-            "an observation holds a non-finite reading",
+            format!(
+                "observation {i} holds a non-finite or non-physical reading {:?} (bound ±{max} {} per axis)",
+                obs[i].raw.as_slice(),
+                opt.kind.unit()
+            ),
         ));
     }
     let use_inc = !vector
@@ -892,17 +932,8 @@ pub fn fit_triad(obs: &[Observation], opt: &FitOptions) -> Result<TriadFit> {
         .with_gtol(1e-14)
         .with_patience(200)
         .minimize(prob);
-    use levenberg_marquardt::TerminationReason as T;
-    let ok = report.termination.was_successful()
-        || matches!(
-            report.termination,
-            T::NoImprovementPossible(_) | T::LostPatience
-        );
-    if !ok {
-        return Err(Error::new(
-            ErrorKind::NotConverged,
-            format!("the fit did not converge: {:?}", report.termination),
-        ));
+    if !solver_succeeded(&report.termination) {
+        return Err(solver_error("the calibration fit", &report.termination));
     }
     let r = prob.residuals().ok_or_else(|| {
         Error::new(
@@ -1046,6 +1077,37 @@ mod tests {
             });
         }
         v
+    }
+
+    #[test]
+    fn non_physical_observations_never_reach_the_solver() {
+        let mut obs = obs_set();
+        obs[7].raw.y = 1e308;
+        let opt = FitOptions {
+            reference_norm: Some(9.7),
+            ..FitOptions::accel(ModelKind::Mwd12)
+        };
+        let e = fit_triad(&obs, &opt).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::InvalidInput, "{e}");
+        assert!(e.message.contains("observation 7"), "{e}");
+        obs[7].raw.y = f64::NAN;
+        assert!(
+            fit_triad(&obs, &opt)
+                .unwrap_err()
+                .message
+                .contains("observation 7")
+        );
+    }
+
+    #[test]
+    fn solver_failures_read_as_sentences() {
+        use levenberg_marquardt::TerminationReason as T;
+        let e = solver_error("the calibration fit", &T::User("residuals"));
+        assert_eq!(e.kind, ErrorKind::NotConverged);
+        assert!(!e.message.contains("User"), "{e}");
+        assert!(e.message.contains("non-finite"), "{e}");
+        assert!(solver_succeeded(&T::LostPatience));
+        assert!(!solver_succeeded(&T::Numerical("jacobian")));
     }
 
     fn check_jac(model: ModelKind, gauge: Gauge, vector: bool) {

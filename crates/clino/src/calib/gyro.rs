@@ -255,19 +255,10 @@ pub fn from_rotations(
         .with_xtol(1e-12)
         .with_gtol(1e-14)
         .minimize(prob);
-    use levenberg_marquardt::TerminationReason as T;
-    if !(report.termination.was_successful()
-        || matches!(
-            report.termination,
-            T::NoImprovementPossible(_) | T::LostPatience
-        ))
-    {
-        return Err(Error::new(
-            ErrorKind::NotConverged,
-            format!(
-                "gyro rotation fit did not converge: {:?}",
-                report.termination
-            ),
+    if !super::fit::solver_succeeded(&report.termination) {
+        return Err(super::fit::solver_error(
+            "the gyro rotation fit",
+            &report.termination,
         ));
     }
     let r = prob

@@ -14,10 +14,33 @@
 //!
 //! A triad's three columns come together or not at all. Every error names the
 //! file, the 1-based line and the column.
+//!
+//! ## Physical bounds
+//! A raw reading beyond what any sensor of its kind can report is a logging
+//! fault or a unit error. It is rejected here, with its line and column,
+//! before it can reach a solver (where a 1e308 turns every residual into
+//! infinity): per axis, |acc| ≤ [`MAX_ACC_M_S2`] (100 g), |gyr| and
+//! |ref_gyr| ≤ [`MAX_GYR_RAD_S`] (100 rad/s, 5730 °/s), |mag| ≤
+//! [`MAX_MAG_UT`] (5000 µT); `temp_c` in [`TEMP_RANGE_C`]; |t_s| ≤
+//! [`MAX_TIME_S`].
 
 use crate::{Error, ErrorKind, Result};
-use clino_core::{ImuSample, Vec3};
+use clino_core::{G0, ImuSample, Vec3};
 use std::path::{Path, PathBuf};
+
+/// Largest raw accelerometer reading per axis, m/s²: 100 g, beyond the range
+/// of inclinometer-class MEMS accelerometers (±16 g at most) and of MWD tools.
+pub const MAX_ACC_M_S2: f64 = 100.0 * G0;
+/// Largest raw gyro (or rate-table) rate per axis, rad/s: 100 rad/s
+/// (5730 °/s; MEMS gyros reach ±4000 °/s).
+pub const MAX_GYR_RAD_S: f64 = 100.0;
+/// Largest raw magnetometer reading per axis, µT: 5000 µT (MEMS magnetometers
+/// reach ±4900 µT; the Earth's field is 22–67 µT).
+pub const MAX_MAG_UT: f64 = 5000.0;
+/// Accepted temperatures, °C.
+pub const TEMP_RANGE_C: (f64, f64) = (-100.0, 300.0);
+/// Largest |time stamp|, s (about 317 years).
+pub const MAX_TIME_S: f64 = 1.0e10;
 
 /// Column names of the three triads, x, y, z.
 pub const ACC_COLS: [&str; 3] = ["acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"];
@@ -151,7 +174,24 @@ impl Recording {
                     ),
                 }
             };
-            let ts = num(t, false)?;
+            // a finite number within [lo, hi] (the physical bounds of the module doc)
+            let bounded = |i: usize, lo: f64, hi: f64, what: &str| -> Result<f64> {
+                let v = num(i, false)?;
+                if (lo..=hi).contains(&v) {
+                    Ok(v)
+                } else {
+                    Err(Error::new(
+                        ErrorKind::InvalidInput,
+                        format!(
+                            "{} is beyond the physical bound of a raw {what}, {lo} … {hi}",
+                            crate::error::short(v)
+                        ),
+                    )
+                    .at_line(line)
+                    .at_column(headers[i].clone()))
+                }
+            };
+            let ts = bounded(t, -MAX_TIME_S, MAX_TIME_S, "time stamp (s)")?;
             if let Some(&prev) = out.t_s.last()
                 && ts <= prev
             {
@@ -163,27 +203,32 @@ impl Recording {
                 .at_column("t_s"));
             }
             out.t_s.push(ts);
-            let v3 = |ix: [usize; 3]| -> Result<Vec3> {
+            let v3 = |ix: [usize; 3], max: f64, what: &str| -> Result<Vec3> {
                 Ok(Vec3::new(
-                    num(ix[0], false)?,
-                    num(ix[1], false)?,
-                    num(ix[2], false)?,
+                    bounded(ix[0], -max, max, what)?,
+                    bounded(ix[1], -max, max, what)?,
+                    bounded(ix[2], -max, max, what)?,
                 ))
             };
             if let (Some(ix), Some(v)) = (acc_i, out.acc.as_mut()) {
-                v.push(v3(ix)?);
+                v.push(v3(ix, MAX_ACC_M_S2, "accelerometer reading (m/s², 100 g)")?);
             }
             if let (Some(ix), Some(v)) = (gyr_i, out.gyr.as_mut()) {
-                v.push(v3(ix)?);
+                v.push(v3(ix, MAX_GYR_RAD_S, "gyro reading (rad/s)")?);
             }
             if let (Some(ix), Some(v)) = (mag_i, out.mag.as_mut()) {
-                v.push(v3(ix)?);
+                v.push(v3(ix, MAX_MAG_UT, "magnetometer reading (µT)")?);
             }
             if let (Some(ix), Some(v)) = (ref_gyr_i, out.ref_gyr.as_mut()) {
-                v.push(v3(ix)?);
+                v.push(v3(ix, MAX_GYR_RAD_S, "rate-table rate (rad/s)")?);
             }
             if let (Some(i), Some(v)) = (temp_i, out.temp_c.as_mut()) {
-                v.push(num(i, false)?);
+                v.push(bounded(
+                    i,
+                    TEMP_RANGE_C.0,
+                    TEMP_RANGE_C.1,
+                    "temperature (°C)",
+                )?);
             }
             if let (Some(i), Some(v)) = (refinc_i, out.ref_inclination_deg.as_mut()) {
                 let x = num(i, true)?;
@@ -384,5 +429,29 @@ mod tests {
         let csv = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,1,2,NaN\n";
         let e = Recording::from_reader(csv.as_bytes()).unwrap_err();
         assert_eq!(e.column.as_deref(), Some("acc_z_m_s2"));
+    }
+
+    #[test]
+    fn non_physical_readings_are_rejected_with_line_and_column() {
+        let head = "t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,mag_x_uT,mag_y_uT,mag_z_uT,temp_c\n";
+        let ok = "0,0.1,0.2,9.8,0,0,0.01,20,0,40,25\n";
+        for (row, col) in [
+            ("0.1,0.1,1e308,9.8,0,0,0.01,20,0,40,25\n", "acc_y_m_s2"),
+            ("0.1,0.1,0.2,9.8,0,-1e200,0.01,20,0,40,25\n", "gyr_y_rad_s"),
+            ("0.1,0.1,0.2,9.8,0,0,0.01,20,0,1e6,25\n", "mag_z_uT"),
+            ("0.1,0.1,0.2,9.8,0,0,0.01,20,0,40,1e308\n", "temp_c"),
+            ("1e300,0.1,0.2,9.8,0,0,0.01,20,0,40,25\n", "t_s"),
+        ] {
+            let e = Recording::from_reader(format!("{head}{ok}{row}").as_bytes()).unwrap_err();
+            assert_eq!(
+                (e.kind, e.line, e.column.as_deref()),
+                (ErrorKind::InvalidInput, Some(3), Some(col)),
+                "{e}"
+            );
+            assert!(e.message.contains("physical bound"), "{e}");
+        }
+        // 16 g on one axis (a shock between poses) is a reading
+        let r = format!("{head}{ok}0.1,156.9,0.2,9.8,0,0,0.01,20,0,40,25\n");
+        assert!(Recording::from_reader(r.as_bytes()).is_ok());
     }
 }

@@ -149,6 +149,74 @@ pub fn isolable(acc: &SixAxisAccelerometer, f: FaultSet) -> bool {
         .all(|s| rank(&columns(&p, FaultSet(s.0 | f.0))) > rank(&columns(&p, s)))
 }
 
+/// The other sets of `|F|` chains whose fault space contains every fault of
+/// `F` (`range(P_F) ⊆ range(P_S)`): a fault on `F` is explained by each of
+/// them as well, so no residual can tell them apart. Empty exactly when a
+/// restorable `F` is isolable ([`isolable`]); e.g. 1234 → [1237].
+pub fn confusable_with(acc: &SixAxisAccelerometer, f: FaultSet) -> Vec<FaultSet> {
+    let p = scaled_parity(acc);
+    FaultSet::all_of_size(f.len())
+        .into_iter()
+        .filter(|&s| s != f)
+        .filter(|&s| rank(&columns(&p, FaultSet(s.0 | f.0))) == rank(&columns(&p, s)))
+        .collect()
+}
+
+/// What the general scheme can do about a fault on the chains `f`.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Capability {
+    /// The healthy chains and the gyro determine `f`'s forces once its location is known.
+    pub restorable: bool,
+    /// The diagnosis can locate `f` (restorable, and no other set of as many chains explains it).
+    pub isolable: bool,
+    /// The sets a fault on `f` cannot be told from (labels, e.g. "1237").
+    pub confusable_with: Vec<String>,
+}
+
+impl Capability {
+    /// The capability of `f` on the device `acc`.
+    pub fn of(acc: &SixAxisAccelerometer, f: FaultSet) -> Self {
+        let restorable = restorable(acc, f);
+        let confusable: Vec<String> = if restorable {
+            confusable_with(acc, f)
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Self {
+            restorable,
+            isolable: restorable && confusable.is_empty(),
+            confusable_with: confusable,
+        }
+    }
+
+    /// A warning for a set the diagnosis cannot locate or the restoration cannot
+    /// undo (`None` when it can do both).
+    pub fn warning(&self, f: FaultSet) -> Option<String> {
+        if !self.restorable {
+            Some(format!(
+                "chains {} cannot be restored: the healthy chains and the gyro do not determine their forces (see `clino redundancy analyze`)",
+                f.to_list()
+            ))
+        } else if !self.isolable {
+            let others: Vec<String> = self
+                .confusable_with
+                .iter()
+                .map(|l| FaultSet::from_label(l).map_or_else(|_| l.clone(), |s| s.to_list()))
+                .collect();
+            Some(format!(
+                "chains {} are not isolable: a fault on them is explained as well by chains {} (the same fault directions), so no diagnosis can locate it and a restoration may replace the wrong chains (see `clino redundancy analyze`)",
+                f.to_list(),
+                others.join(" or ")
+            ))
+        } else {
+            None
+        }
+    }
+}
+
 /// Source-scheme restorability: sequential replacement through relations
 /// with a single unrestored faulty chain.
 pub fn source_restorable(relations: &[Relation], f: FaultSet) -> bool {
@@ -288,10 +356,37 @@ mod tests {
     }
 
     #[test]
+    fn capability_names_the_sets_a_fault_is_confused_with() {
+        let acc = SixAxisAccelerometer::reference();
+        let c = Capability::of(&acc, FaultSet::from_label("1234").unwrap());
+        assert!(c.restorable && !c.isolable, "{c:?}");
+        assert!(c.confusable_with.contains(&"1237".to_string()), "{c:?}");
+        let w = c.warning(FaultSet::from_label("1234").unwrap()).unwrap();
+        assert!(w.contains("not isolable") && w.contains("1,2,3,7"), "{w}");
+        let c = Capability::of(&acc, FaultSet::from_label("239").unwrap());
+        assert!(
+            c.isolable
+                && c.confusable_with.is_empty()
+                && c.warning(FaultSet(0b1_0000_0110)).is_none()
+        );
+        // seven chains: not restorable (six relations for seven unknown forces)
+        let five = FaultSet::from_label("1234567").unwrap();
+        let c = Capability::of(&acc, five);
+        assert!(!c.restorable && !c.isolable);
+        assert!(c.warning(five).unwrap().contains("cannot be restored"));
+        // agrees with the counts: exactly the 96 isolable quadruples have no partner
+        let n = FaultSet::all_of_size(4)
+            .into_iter()
+            .filter(|&s| restorable(&acc, s) && confusable_with(&acc, s).is_empty())
+            .count();
+        assert_eq!(n, 96);
+    }
+
+    #[test]
     fn non_isolable_pair_has_equal_ranges() {
         // 1234 and 1237: chain 7's direction lies in the span of 1, 2, 3, 4
         let p = scaled_parity(&SixAxisAccelerometer::reference());
-        let u = FaultSet::parse("12347").unwrap();
+        let u = FaultSet::from_label("12347").unwrap();
         assert_eq!(rank(&columns(&p, u)), 4);
     }
 }

@@ -60,7 +60,7 @@ pub fn demo_summary() -> Result<String> {
     let acc = model::SixAxisAccelerometer::reference();
     let a = analysis::analyze(&acc, 4);
     let sim = simulate::Simulator::new(&acc, &simulate::SimConfig::default())?;
-    let set = fault_set::FaultSet::parse("239")?;
+    let set = fault_set::FaultSet::from_label("239")?;
     let r = sim.run(set, simulate::FaultKind::Bias, 7)?.report;
     let mut s = String::from("Redundant six-axis accelerometer (nine chains + gyro)\n");
     s += &a.summary();

@@ -313,7 +313,7 @@ pub fn restore_recording(
     diagnosis: &RecordingDiagnosis,
     half_window: usize,
 ) -> Result<Vec<RestoredSample>> {
-    let set = FaultSet::parse(&diagnosis.diagnosed).ok();
+    let set = FaultSet::from_label(&diagnosis.diagnosed).ok();
     let restorer = match (set, diagnosis.restore_from_s) {
         (Some(s), Some(_)) => {
             let sigma =
@@ -448,7 +448,7 @@ mod tests {
             &back,
         )
         .unwrap();
-        assert_eq!(d.diagnosed, FaultSet::parse("58").unwrap().to_string());
+        assert_eq!(d.diagnosed, FaultSet::from_label("58").unwrap().to_string());
         assert!(d.first_alarm_s.unwrap() >= 0.2 && d.first_alarm_s.unwrap() < 0.3);
         assert_eq!(d.segments[0].general, "none");
         let restored = restore_recording(&acc, &NoiseModel::reference(), &back, &d, 10).unwrap();

@@ -225,7 +225,7 @@ mod tests {
     #[test]
     fn eq14_is_the_exact_restoration_of_239() {
         let (acc, truth, eps) = case();
-        let s = FaultSet::parse("239").unwrap();
+        let s = FaultSet::from_label("239").unwrap();
         let mut bad = truth;
         bad[1] = 0.0;
         bad[2] = 1.0;
@@ -240,7 +240,7 @@ mod tests {
         let (acc, truth, eps) = case();
         let noise = NoiseModel::reference();
         for set in ["239", "2468", "1", "159"] {
-            let s = FaultSet::parse(set).unwrap();
+            let s = FaultSet::from_label(set).unwrap();
             let r = Restorer::new(&acc, &noise, 0.1, s).unwrap();
             let mut bad = truth;
             for i in s.indices() {

@@ -231,6 +231,15 @@ pub struct SimReport {
     pub faulty_linear_acc_max_rel_error: f64,
     /// The same for the fault-free noisy forces (noise floor).
     pub fault_free_linear_acc_max_rel_error: f64,
+    /// What the scheme can do about the injected set (restorable, isolable,
+    /// the sets it cannot be told from), from [`super::analysis::Capability`].
+    pub capability: super::analysis::Capability,
+    /// The set the restoration used (the diagnosed one, label), if it ran.
+    pub restored_with: Option<String>,
+    /// What a reader must know before trusting the numbers: a set the
+    /// diagnosis cannot locate, a restoration with chains other than the
+    /// faulty ones, a restoration worse than none. Empty when all is well.
+    pub warnings: Vec<String>,
 }
 
 /// One run with its time series (for plots).
@@ -455,6 +464,24 @@ impl Simulator {
         let a_faulty = dec(&faulty)?;
         let a_clean = dec(&clean)?;
         let a_rest = dec(&restored)?;
+        let capability = super::analysis::Capability::of(acc, faults);
+        let restored_err = restored_ok.then(|| max_rel_error(&a_rest, &a_true));
+        let faulty_err = max_rel_error(&a_faulty, &a_true);
+        let mut warnings: Vec<String> = capability.warning(faults).into_iter().collect();
+        if let Some(set) = diagnosed_set.filter(|&s| restored_ok && s != faults) {
+            warnings.push(format!(
+                "the diagnosis named chains {}, not the faulty {}: the restoration replaced the wrong chains",
+                set.to_list(),
+                faults.to_list()
+            ));
+        }
+        if let Some(e) = restored_err.filter(|&e| e > faulty_err) {
+            warnings.push(format!(
+                "the restored linear acceleration is worse than the unrestored one ({:.3} % against {:.3} %)",
+                100.0 * e,
+                100.0 * faulty_err
+            ));
+        }
         let report = SimReport {
             faults: faults.to_string(),
             fault_kind: kind,
@@ -469,9 +496,12 @@ impl Simulator {
             isolation_delay_s: first_iso.map(|w| w.t_end_s - onset),
             false_alarm_windows: false_alarms,
             pre_onset_windows: pre.len(),
-            restored_linear_acc_max_rel_error: restored_ok.then(|| max_rel_error(&a_rest, &a_true)),
-            faulty_linear_acc_max_rel_error: max_rel_error(&a_faulty, &a_true),
+            restored_linear_acc_max_rel_error: restored_err,
+            faulty_linear_acc_max_rel_error: faulty_err,
             fault_free_linear_acc_max_rel_error: max_rel_error(&a_clean, &a_true),
+            capability,
+            restored_with: diagnosed_set.filter(|_| restored_ok).map(|s| s.to_string()),
+            warnings,
         };
         let recording = Recording {
             t_s: t.clone(),
@@ -606,7 +636,7 @@ pub fn validation_sets() -> Vec<FaultSet> {
     v.extend(
         super::analysis::TABLE1
             .iter()
-            .map(|s| FaultSet::parse(s).expect("table entries are digits")),
+            .map(|s| FaultSet::from_label(s).expect("table entries are labels")),
     );
     v
 }
@@ -644,7 +674,7 @@ mod tests {
     fn source_example_239_restores_within_one_percent() {
         let sim =
             Simulator::new(&SixAxisAccelerometer::reference(), &SimConfig::default()).unwrap();
-        let s = FaultSet::parse("239").unwrap();
+        let s = FaultSet::from_label("239").unwrap();
         for kind in FaultKind::ALL {
             let r = sim.run(s, kind, 11).unwrap().report;
             assert_eq!(r.diagnosed, "239", "{kind:?}: {r:?}");
@@ -653,6 +683,41 @@ mod tests {
             assert!(r.faulty_linear_acc_max_rel_error > e, "{kind:?}");
             assert_eq!(r.false_alarm_windows, 0);
         }
+    }
+
+    #[test]
+    fn a_set_that_cannot_be_isolated_is_reported_with_warnings() {
+        // 1234 shares its fault directions with 1237: the diagnosis may name
+        // another set, and a restoration with it is no restoration
+        let sim =
+            Simulator::new(&SixAxisAccelerometer::reference(), &SimConfig::default()).unwrap();
+        let r = sim
+            .run(FaultSet::parse("1,2,3,4").unwrap(), FaultKind::Bias, 7)
+            .unwrap()
+            .report;
+        assert!(!r.capability.isolable && r.capability.restorable, "{r:?}");
+        assert!(r.warnings[0].contains("not isolable"), "{:?}", r.warnings);
+        if r.restored_with.as_deref().is_some_and(|s| s != "1234") {
+            assert!(
+                r.warnings.iter().any(|w| w.contains("wrong chains")),
+                "{:?}",
+                r.warnings
+            );
+        }
+        if r.restored_linear_acc_max_rel_error.unwrap_or(0.0) > r.faulty_linear_acc_max_rel_error {
+            assert!(
+                r.warnings.iter().any(|w| w.contains("worse")),
+                "{:?}",
+                r.warnings
+            );
+        }
+        // the source's example: no warning
+        let r = sim
+            .run(FaultSet::from_label("239").unwrap(), FaultKind::Bias, 7)
+            .unwrap()
+            .report;
+        assert!(r.warnings.is_empty() && r.capability.isolable, "{r:?}");
+        assert_eq!(r.restored_with.as_deref(), Some("239"));
     }
 
     #[test]
@@ -704,7 +769,7 @@ mod tests {
         let mut n = 0;
         for seed in 0..5 {
             let r = sim
-                .run(FaultSet::parse("1").unwrap(), FaultKind::Bias, seed)
+                .run(FaultSet::from_label("1").unwrap(), FaultKind::Bias, seed)
                 .unwrap()
                 .report;
             fa += r.false_alarm_windows;

@@ -160,11 +160,72 @@ pub struct SurveyReport {
     pub trajectory: Vec<TrajectoryPoint>,
 }
 
+impl Station {
+    /// Every figure of the station is finite (the optional ones where present).
+    fn is_finite(&self) -> bool {
+        [
+            Some(self.g_total_m_s2),
+            Some(self.g_total_g),
+            self.h_total_ut,
+            Some(self.inclination_deg),
+            self.azimuth_deg,
+            self.gravity_toolface_deg,
+            self.magnetic_toolface_deg,
+            self.dip_deg,
+        ]
+        .iter()
+        .flatten()
+        .all(|v| v.is_finite())
+    }
+}
+
 /// Compute a survey from readings: stations, roll-test QC and the trajectory.
+///
+/// Every reading is checked against the physical bounds of a survey station
+/// first ([`StationReading::check`]: |f| ≤ 4 g, |h| ≤ 1000 µT, |md| ≤ 100 km;
+/// readings calibrated after loading are checked again here), and every
+/// derived figure must be finite; errors name the reading's line and column.
 pub fn survey(readings: &[StationReading], opt: &SurveyOptions) -> Result<SurveyReport> {
-    let stations: Vec<Station> = readings.iter().map(|r| station(r, opt)).collect();
+    if !opt.declination_deg.is_finite() || opt.declination_deg.abs() > 180.0 {
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidInput,
+            format!(
+                "declination {} deg is outside −180 … 180°",
+                opt.declination_deg
+            ),
+        ));
+    }
+    let mut stations = Vec::with_capacity(readings.len());
+    for r in readings {
+        r.check()?;
+        let s = station(r, opt);
+        if !s.is_finite() {
+            return Err(crate::Error::new(
+                crate::ErrorKind::InvalidInput,
+                format!("the reading gives non-finite survey figures: {s:?}"),
+            )
+            .at_line(r.line));
+        }
+        stations.push(s);
+    }
     let roll = roll_tests(&stations, &opt.limits);
     let trajectory = trajectory::from_stations(&stations)?;
+    if let Some(p) = trajectory.iter().find(|p| {
+        ![
+            p.tvd_m,
+            p.north_m,
+            p.east_m,
+            p.dogleg_deg,
+            p.dls_deg_per_30m,
+        ]
+        .iter()
+        .all(|v| v.is_finite())
+    }) {
+        return Err(crate::Error::new(
+            crate::ErrorKind::InvalidInput,
+            format!("the trajectory is not finite at md {} m: {p:?}", p.md_m),
+        ));
+    }
     Ok(SurveyReport {
         stations,
         roll_tests: roll,
@@ -440,6 +501,41 @@ mod tests {
             proptest::prop_assert!(da.abs() < 1e-6 && dt.abs() < 1e-6, "azi {} tf {}", da, dt);
             proptest::prop_assert!((s.dip_deg.unwrap() - d).abs() < 1e-8);
         }
+    }
+
+    #[test]
+    fn non_physical_readings_are_errors_not_nan_figures() {
+        let (f, h) = readings(30.0, 200.0, 40.0, 60.0);
+        let good = StationReading {
+            md_m: 10.0,
+            line: 2,
+            acc_m_s2: f,
+            mag_ut: Some(h),
+            temp_c: None,
+        };
+        let bad = StationReading {
+            md_m: 20.0,
+            line: 3,
+            acc_m_s2: Vec3::new(1e308, f.y, f.z),
+            ..good
+        };
+        let e = survey(&[good, bad], &SurveyOptions::default()).unwrap_err();
+        assert_eq!((e.line, e.column.as_deref()), (Some(3), Some("acc_x_m_s2")));
+        // a field of 1e200 µT would give H_L = inf and a NaN dip
+        let bad = StationReading {
+            md_m: 20.0,
+            line: 3,
+            mag_ut: Some(Vec3::new(1e200, 0.0, 0.0)),
+            ..good
+        };
+        let e = survey(&[good, bad], &SurveyOptions::default()).unwrap_err();
+        assert_eq!(e.column.as_deref(), Some("mag_x_uT"));
+        let opt = SurveyOptions {
+            declination_deg: f64::NAN,
+            ..Default::default()
+        };
+        assert!(survey(&[good], &opt).is_err());
+        assert!(survey(&[good], &SurveyOptions::default()).is_ok());
     }
 
     #[test]

@@ -6,10 +6,119 @@
 //! `mag_z_uT` (field in the tool frame) and `temp_c` (°C, for temperature
 //! calibration models). Rows with the same `md_m` are a roll test. Errors name
 //! file, line and column.
+//!
+//! ## Physical bounds
+//! A survey station is read with the tool at rest, so its specific force is
+//! gravity (G_L ≈ 1 g) and its field the Earth's (22–67 µT). A reading beyond
+//! the bounds below is a fault, a saturated axis or a unit error, not a
+//! station; it is rejected with its line and column instead of turning into
+//! an infinite G_L and a NaN dip:
+//!
+//! * specific force: every axis and |f| at most [`MAX_SPECIFIC_FORCE_M_S2`] (4 g);
+//! * field: every axis and |h| at most [`MAX_FIELD_UT`] (1000 µT);
+//! * measured depth: |md| at most [`MAX_MEASURED_DEPTH_M`] (100 km; the deepest
+//!   borehole is 12.3 km);
+//! * temperature: [`TEMP_RANGE_C`] (−100 … 300 °C).
 
+use crate::error::short;
 use crate::{Error, ErrorKind, Result};
-use clino_core::Vec3;
+use clino_core::{G0, Vec3};
 use std::path::Path;
+
+/// Largest specific force of a survey station, per axis and in magnitude,
+/// m/s²: 4 g (a tool at rest reads 1 g).
+pub const MAX_SPECIFIC_FORCE_M_S2: f64 = 4.0 * G0;
+/// Largest field of a survey station, per axis and in magnitude, µT (the
+/// Earth's field is 22–67 µT).
+pub const MAX_FIELD_UT: f64 = 1000.0;
+/// Largest |measured depth|, m.
+pub const MAX_MEASURED_DEPTH_M: f64 = 1.0e5;
+/// Accepted tool temperatures, °C.
+pub const TEMP_RANGE_C: (f64, f64) = (-100.0, 300.0);
+
+const ACC_COLS: [&str; 3] = ["acc_x_m_s2", "acc_y_m_s2", "acc_z_m_s2"];
+const MAG_COLS: [&str; 3] = ["mag_x_uT", "mag_y_uT", "mag_z_uT"];
+
+/// Check one triad against a bound: the largest axis names the column.
+fn check_triad(v: &Vec3, max: f64, cols: [&str; 3], what: &str, bound: &str) -> Result<()> {
+    // the axis with the largest (or a non-finite) value names the column
+    let k = (0..3)
+        .max_by(|&a, &b| {
+            let m = |i: usize| {
+                if v[i].is_finite() {
+                    v[i].abs()
+                } else {
+                    f64::INFINITY
+                }
+            };
+            m(a).total_cmp(&m(b))
+        })
+        .unwrap_or(0);
+    let norm = v.norm();
+    if !(v[k].abs() <= max && norm <= max) {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "{what} {} on this axis, magnitude {}: beyond the physical bound of a survey station at rest, {bound}",
+                short(v[k]),
+                short(norm)
+            ),
+        )
+        .at_column(cols[k]));
+    }
+    Ok(())
+}
+
+impl StationReading {
+    /// Check the reading against the physical bounds of a survey station (see
+    /// the module doc); the error names the line and the column.
+    pub fn check(&self) -> Result<()> {
+        let at = |e: Error| e.at_line(self.line);
+        if !(self.md_m.is_finite() && self.md_m.abs() <= MAX_MEASURED_DEPTH_M) {
+            return Err(at(Error::new(
+                ErrorKind::InvalidInput,
+                format!(
+                    "measured depth {} m is beyond ±{MAX_MEASURED_DEPTH_M} m",
+                    short(self.md_m)
+                ),
+            )
+            .at_column("md_m")));
+        }
+        check_triad(
+            &self.acc_m_s2,
+            MAX_SPECIFIC_FORCE_M_S2,
+            ACC_COLS,
+            "specific force (m/s²)",
+            "39.2 m/s² (4 g)",
+        )
+        .map_err(at)?;
+        if self.acc_m_s2.norm() == 0.0 {
+            return Err(at(Error::new(
+                ErrorKind::InvalidInput,
+                "zero specific force: no gravity to survey with",
+            )
+            .at_column("acc_x_m_s2")));
+        }
+        if let Some(h) = &self.mag_ut {
+            check_triad(h, MAX_FIELD_UT, MAG_COLS, "field (µT)", "1000 µT").map_err(at)?;
+        }
+        if let Some(t) = self.temp_c
+            && !(TEMP_RANGE_C.0..=TEMP_RANGE_C.1).contains(&t)
+        {
+            return Err(at(Error::new(
+                ErrorKind::InvalidInput,
+                format!(
+                    "temperature {} °C is outside {} … {} °C",
+                    short(t),
+                    TEMP_RANGE_C.0,
+                    TEMP_RANGE_C.1
+                ),
+            )
+            .at_column("temp_c")));
+        }
+        Ok(())
+    }
+}
 
 /// One station's readings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,14 +190,6 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
                 })
         };
         let f = Vec3::new(num(acc[0])?, num(acc[1])?, num(acc[2])?);
-        if f.norm() == 0.0 {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                "zero specific force: no gravity to survey with",
-            )
-            .at_line(line)
-            .at_column("acc_x_m_s2"));
-        }
         let h = match mag {
             Some(m) => Some(Vec3::new(num(m[0])?, num(m[1])?, num(m[2])?)),
             None => None,
@@ -97,13 +198,15 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
             Some(i) => Some(num(i)?),
             None => None,
         };
-        out.push(StationReading {
+        let r = StationReading {
             md_m: num(md)?,
             line,
             acc_m_s2: f,
             mag_ut: h,
             temp_c,
-        });
+        };
+        r.check()?;
+        out.push(r);
     }
     if out.is_empty() {
         return Err(Error::new(
@@ -161,5 +264,34 @@ mod tests {
         assert_eq!((e.line, e.column.as_deref()), (Some(2), Some("mag_z_uT")));
         let e = parse_stations("md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n".as_bytes()).unwrap_err();
         assert_eq!(e.kind, ErrorKind::Empty);
+    }
+
+    #[test]
+    fn non_physical_readings_are_rejected_with_line_and_column() {
+        let head = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n";
+        let ok = "10,0.5,0.2,-9.8,20,1,40\n";
+        let case = |row: &str| {
+            parse_stations(format!("{head}{ok}{row}").as_bytes())
+                .map(|_| ())
+                .unwrap_err()
+        };
+        let e = case("20,1e308,0,-9.8,20,1,40\n");
+        assert_eq!(
+            (e.kind, e.line, e.column.as_deref()),
+            (ErrorKind::InvalidInput, Some(3), Some("acc_x_m_s2")),
+            "{e}"
+        );
+        assert!(e.message.contains("39.2"), "{e}");
+        // 4 g per axis passes, but not as a magnitude
+        let e = case("20,30,25,-9.8,20,1,40\n");
+        assert_eq!(e.column.as_deref(), Some("acc_x_m_s2"), "{e}");
+        let e = case("20,0.5,0.2,-9.8,20,1,-2000\n");
+        assert_eq!((e.line, e.column.as_deref()), (Some(3), Some("mag_z_uT")));
+        let e = case("1e308,0.5,0.2,-9.8,20,1,40\n");
+        assert_eq!(e.column.as_deref(), Some("md_m"));
+        let e = case("20,0,0,0,20,1,40\n");
+        assert_eq!(e.column.as_deref(), Some("acc_x_m_s2"));
+        // a 3 g reading (a shock, not a station) is still a reading: QC flags its G_L
+        assert!(parse_stations(format!("{head}{ok}20,0,0,-29.4,20,1,40\n").as_bytes()).is_ok());
     }
 }
