@@ -4,6 +4,7 @@ use anyhow::Context;
 use clino::bench::conical::{ConicalConfig, PlatformSpec, run_conical};
 use clino::bench::orbit::{OrbitConfig, run_orbit};
 use clino::bench::recording::{Excitation, Table, analyze};
+use clino::bench::static_record::read_static_record;
 use clino::bench::{plots, static_test};
 use clino::sim::ImuModel;
 use clino::sim::motion::ConeAxis;
@@ -155,7 +156,7 @@ struct OrbitArgs {
 
 #[derive(clap::Args)]
 struct StaticArgs {
-    /// Recording at rest (CSV: t_s, gyr_*_rad_s|deg_s, acc_*_m_s2|g); omit to simulate the sensor.
+    /// Recording at rest (CSV: t_s, gyr_*_rad_s|deg_s, acc_*_m_s2|g; read as by `clino allan`); omit to simulate the sensor.
     recording: Option<PathBuf>,
     /// Simulated duration, s (the source's test lasts 10 minutes).
     #[arg(long, default_value_t = 600.0)]
@@ -163,6 +164,9 @@ struct StaticArgs {
     /// Start of the record excluded from the statistics (filter settling), s.
     #[arg(long, default_value_t = 10.0)]
     settle_s: f64,
+    /// What to do with a gap in a recording's time stamps: refuse, or longest (the longest gap-free segment).
+    #[arg(long, default_value = "refuse")]
+    gaps: String,
     #[command(flatten)]
     common: Common,
 }
@@ -281,8 +285,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Cmd::Static(s) => {
             let r = match &s.recording {
                 Some(path) => {
-                    let t = Table::read(path)?;
-                    static_test::static_test(&t.imu_samples()?, &s.common.filter, s.settle_s)?
+                    // the rules of `clino allan` too: comments, unused columns, gaps, dropouts
+                    let rec = read_static_record(path, s.gaps.parse()?)?;
+                    for n in &rec.notes {
+                        eprintln!("warning: {n}");
+                    }
+                    rec.require(3, "a static test")?;
+                    static_test::static_test(&rec.samples, &s.common.filter, s.settle_s)?
                 }
                 None => {
                     let m = s.common.sensor()?;

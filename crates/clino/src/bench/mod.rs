@@ -9,8 +9,9 @@
 //! * [`sensitivity`] — the paper's sensitivities and dB;
 //! * [`conical`] — frequency response under the conical motion (simulated or recorded);
 //! * [`orbit`] — cross-coupling under positional orbits;
+//! * [`static_record`] — the rules a recording at rest passes first (shared by `allan` and `static`);
 //! * [`static_test`] — drift and noise of a filter at rest;
-//! * [`allan`] — overlapping Allan deviation and IEEE Std 952 noise terms;
+//! * [`allan`] — overlapping Allan deviation, IEEE Std 952 readings and fitted noise terms with honest bounds;
 //! * [`filters`] — the filter chosen by name for every run;
 //! * [`plots`] — SVG/PNG plots of the results;
 //! * [`recording`] — lab recordings (CSV) for `analyze`, `static` and `allan`.
@@ -31,6 +32,7 @@ pub mod plots;
 pub mod recording;
 pub mod sensitivity;
 pub mod sinefit;
+pub mod static_record;
 pub mod static_test;
 
 mod demo;
