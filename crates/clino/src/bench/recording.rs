@@ -18,6 +18,7 @@
 use super::conical::{Channels, ConicalPoint, analyze_conical};
 use super::orbit::{OrbitPoint, cross_coupling_of_attitudes};
 use super::sinefit::fit4;
+use crate::io::TableReader;
 use crate::sim::platform::PlatformMotion;
 use crate::sim::stewart::{Geometry, Pose, ServoLegs};
 use crate::{Error, ErrorKind, Result};
@@ -39,85 +40,43 @@ pub struct Table {
 }
 
 impl Table {
-    /// Read `path`: a header row, then numeric rows; `t_s` must be present and increasing.
+    /// Read `path` ([`TableReader`]'s rules): a header row, then numeric rows;
+    /// `t_s` must be present and increasing.
     pub fn read(path: &Path) -> Result<Self> {
-        let file = std::fs::File::open(path)
-            .map_err(|e| Error::new(ErrorKind::Io, e.to_string()).in_file(path))?;
-        Self::from_reader(file, path)
+        Self::from_table(TableReader::open(path)?)
     }
 
     /// Parse CSV text from `reader`, naming `path` in errors.
     pub fn from_reader<R: std::io::Read>(reader: R, path: &Path) -> Result<Self> {
-        let mut rdr = csv::ReaderBuilder::new()
-            .trim(csv::Trim::All)
-            .from_reader(reader);
-        let names: Vec<String> = rdr
-            .headers()
-            .map_err(|e| {
-                Error::new(ErrorKind::Parse, e.to_string())
-                    .in_file(path)
-                    .at_line(1)
-            })?
-            .iter()
-            .map(str::to_string)
-            .collect();
+        Self::from_table(TableReader::new(reader, path)?)
+    }
+
+    /// Read every column of a table whose header has been read (every cell a
+    /// finite number).
+    pub fn from_table<R: std::io::Read>(mut tb: TableReader<R>) -> Result<Self> {
+        let names: Vec<String> = tb.header().to_vec();
+        let t = tb
+            .find(&["t_s"])
+            .ok_or_else(|| tb.missing("t_s", "time column is required"))?;
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-        let mut rec = csv::StringRecord::new();
-        let mut line = 1u64;
-        loop {
-            match rdr.read_record(&mut rec) {
-                Ok(false) => break,
-                Ok(true) => {}
-                Err(e) => {
-                    let l = e.position().map_or(line + 1, |p| p.line());
-                    return Err(Error::new(ErrorKind::Parse, e.to_string())
-                        .in_file(path)
-                        .at_line(l));
-                }
+        while tb.next_record()? {
+            for (j, c) in cols.iter_mut().enumerate() {
+                c.push(tb.finite(j)?);
             }
-            line = rec.position().map_or(line + 1, |p| p.line());
-            for (j, cell) in rec.iter().enumerate() {
-                let v: f64 = cell.parse().map_err(|_| {
-                    Error::new(ErrorKind::Parse, format!("not a number: '{cell}'"))
-                        .in_file(path)
-                        .at_line(line)
-                        .at_column(names[j].clone())
-                })?;
-                if !v.is_finite() {
-                    return Err(Error::new(
-                        ErrorKind::InvalidInput,
-                        format!("not finite: '{cell}'"),
-                    )
-                    .in_file(path)
-                    .at_line(line)
-                    .at_column(names[j].clone()));
-                }
-                cols[j].push(v);
+            let tc = &cols[t];
+            if let [.., a, b] = tc[..]
+                && !super::allan::increasing(a, b)
+            {
+                return Err(tb.err_at(
+                    t,
+                    ErrorKind::TimeNotIncreasing,
+                    format!("time {b} s does not increase (previous row {a} s)"),
+                ));
             }
-        }
-        if cols.first().is_none_or(|c| c.is_empty()) {
-            return Err(Error::new(ErrorKind::Empty, "no data rows").in_file(path));
         }
         let columns: HashMap<String, Vec<f64>> = names.iter().cloned().zip(cols).collect();
-        let t = self_col(&columns, "t_s").ok_or_else(|| {
-            Error::new(ErrorKind::MissingColumn, "time column is required")
-                .in_file(path)
-                .at_column("t_s")
-        })?;
-        if let Some(i) = t
-            .windows(2)
-            .position(|w| !super::allan::increasing(w[0], w[1]))
-        {
-            return Err(Error::new(
-                ErrorKind::TimeNotIncreasing,
-                format!("time {} s does not increase", t[i + 1]),
-            )
-            .in_file(path)
-            .at_line(i as u64 + 3)
-            .at_column("t_s"));
-        }
         Ok(Self {
-            path: path.to_path_buf(),
+            path: tb.file().to_path_buf(),
             names,
             columns,
         })

@@ -183,7 +183,7 @@ fn from_rows<R: std::io::Read>(
     let mut lines = Vec::new();
     while let Some(row) = rdr.next_row()? {
         if row.has_dropout() {
-            let col = rdr.dropout_column(&row).unwrap_or("?").to_string();
+            let col = rdr.unusable_column(&row).unwrap_or("?").to_string();
             return Err(Error::new(
                 ErrorKind::InvalidInput,
                 "not a finite number (a dropout): a static analysis needs every sample",

@@ -24,6 +24,7 @@
 //! [`MAX_MAG_UT`] (5000 µT); `temp_c` in [`TEMP_RANGE_C`]; |t_s| ≤
 //! [`MAX_TIME_S`].
 
+use crate::io::TableReader;
 use crate::{Error, ErrorKind, Result};
 use clino_core::{G0, ImuSample, Vec3};
 use std::path::{Path, PathBuf};
@@ -78,39 +79,27 @@ pub struct Recording {
     pub records: Vec<Vec<String>>,
 }
 
-fn col(headers: &[String], name: &str) -> Option<usize> {
-    headers.iter().position(|h| h.trim() == name)
-}
-
 impl Recording {
-    /// Read a recording from a CSV file.
+    /// Read a recording from a CSV file ([`TableReader`]'s rules).
     pub fn load(path: &Path) -> Result<Self> {
-        let file = std::fs::File::open(path)
-            .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
-        let mut r = Self::from_reader(file)
-            .map_err(|e| if e.file.is_none() { e.in_file(path) } else { e })?;
+        let mut r = Self::from_table(TableReader::open(path)?)?;
         r.path = Some(path.to_path_buf());
         Ok(r)
     }
 
-    /// Read a recording from any reader (CSV with a header row).
+    /// Read a recording from any reader (CSV with a header row); errors name `<input>`.
     pub fn from_reader<R: std::io::Read>(rd: R) -> Result<Self> {
-        let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(rd);
-        let headers: Vec<String> = rdr
-            .headers()
-            .map_err(|e| Error::new(ErrorKind::Parse, format!("bad header: {e}")).at_line(1))?
-            .iter()
-            .map(|s| s.trim().to_string())
-            .collect();
-        let t = col(&headers, "t_s").ok_or_else(|| {
-            Error::new(
-                ErrorKind::MissingColumn,
-                "the recording needs a time column",
-            )
-            .at_column("t_s")
-        })?;
+        Self::from_table(TableReader::new(rd, "<input>")?)
+    }
+
+    /// Read a recording from a table whose header has been read.
+    pub fn from_table<R: std::io::Read>(mut tb: TableReader<R>) -> Result<Self> {
+        let headers: Vec<String> = tb.header().to_vec();
+        let t = tb
+            .find(&["t_s"])
+            .ok_or_else(|| tb.missing("t_s", "the recording needs a time column"))?;
         let triad = |names: [&str; 3]| -> Result<Option<[usize; 3]>> {
-            let idx: Vec<Option<usize>> = names.iter().map(|n| col(&headers, n)).collect();
+            let idx: Vec<Option<usize>> = names.iter().map(|n| tb.find(&[n])).collect();
             match (idx[0], idx[1], idx[2]) {
                 (Some(a), Some(b), Some(c)) => Ok(Some([a, b, c])),
                 (None, None, None) => Ok(None),
@@ -121,12 +110,7 @@ impl Recording {
                         .find(|(_, i)| i.is_none())
                         .map(|(n, _)| *n)
                         .unwrap_or(names[0]);
-                    Err(Error::new(
-                        ErrorKind::MissingColumn,
-                        "a triad needs all three of its columns",
-                    )
-                    .at_column(missing)
-                    .at_line(1))
+                    Err(tb.missing(missing, "a triad needs all three of its columns"))
                 }
             }
         };
@@ -134,11 +118,12 @@ impl Recording {
         let gyr_i = triad(GYR_COLS)?;
         let mag_i = triad(MAG_COLS)?;
         let ref_gyr_i = triad(REF_GYR_COLS)?;
-        let temp_i = col(&headers, "temp_c");
-        let refinc_i = col(&headers, "ref_inclination_deg");
+        let temp_i = tb.find(&["temp_c"]);
+        let refinc_i = tb.find(&["ref_inclination_deg"]);
 
         let mut out = Recording {
-            headers: headers.clone(),
+            path: Some(tb.file().to_path_buf()),
+            headers,
             acc: acc_i.map(|_| Vec::new()),
             gyr: gyr_i.map(|_| Vec::new()),
             mag: mag_i.map(|_| Vec::new()),
@@ -147,60 +132,33 @@ impl Recording {
             ref_gyr: ref_gyr_i.map(|_| Vec::new()),
             ..Default::default()
         };
-        let mut rec = csv::StringRecord::new();
-        loop {
-            match rdr.read_record(&mut rec) {
-                Ok(false) => break,
-                Ok(true) => {}
-                Err(e) => {
-                    let line = e.position().map(|p| p.line()).unwrap_or(0);
-                    return Err(
-                        Error::new(ErrorKind::Parse, format!("malformed row: {e}")).at_line(line)
-                    );
-                }
-            }
-            let line = rec.position().map(|p| p.line()).unwrap_or(0);
-            let num = |i: usize, allow_empty: bool| -> Result<f64> {
-                let s = rec.get(i).unwrap_or("").trim();
-                if s.is_empty() && allow_empty {
-                    return Ok(f64::NAN);
-                }
-                match s.parse::<f64>() {
-                    Ok(v) if v.is_finite() => Ok(v),
-                    _ => Err(
-                        Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
-                            .at_line(line)
-                            .at_column(headers[i].clone()),
-                    ),
-                }
-            };
+        while tb.next_record()? {
+            let line = tb.line();
             // a finite number within [lo, hi] (the physical bounds of the module doc)
             let bounded = |i: usize, lo: f64, hi: f64, what: &str| -> Result<f64> {
-                let v = num(i, false)?;
+                let v = tb.finite(i)?;
                 if (lo..=hi).contains(&v) {
                     Ok(v)
                 } else {
-                    Err(Error::new(
+                    Err(tb.err_at(
+                        i,
                         ErrorKind::InvalidInput,
                         format!(
                             "{} is beyond the physical bound of a raw {what}, {lo} … {hi}",
                             crate::error::short(v)
                         ),
-                    )
-                    .at_line(line)
-                    .at_column(headers[i].clone()))
+                    ))
                 }
             };
             let ts = bounded(t, -MAX_TIME_S, MAX_TIME_S, "time stamp (s)")?;
             if let Some(&prev) = out.t_s.last()
                 && ts <= prev
             {
-                return Err(Error::new(
+                return Err(tb.err_at(
+                    t,
                     ErrorKind::TimeNotIncreasing,
                     format!("time {ts} s does not increase (previous row {prev} s)"),
-                )
-                .at_line(line)
-                .at_column("t_s"));
+                ));
             }
             out.t_s.push(ts);
             let v3 = |ix: [usize; 3], max: f64, what: &str| -> Result<Vec3> {
@@ -231,26 +189,19 @@ impl Recording {
                 )?);
             }
             if let (Some(i), Some(v)) = (refinc_i, out.ref_inclination_deg.as_mut()) {
-                let x = num(i, true)?;
-                if x.is_finite() && !(0.0..=180.0).contains(&x) {
-                    return Err(Error::new(
+                // empty while moving
+                let x = tb.f64(i)?;
+                if x.is_infinite() || (x.is_finite() && !(0.0..=180.0).contains(&x)) {
+                    return Err(tb.err_at(
+                        i,
                         ErrorKind::InvalidInput,
                         format!("inclination {x}° outside 0–180°"),
-                    )
-                    .at_line(line)
-                    .at_column("ref_inclination_deg"));
+                    ));
                 }
                 v.push(x);
             }
             out.line.push(line);
-            out.records
-                .push(rec.iter().map(|s| s.to_string()).collect());
-        }
-        if out.t_s.is_empty() {
-            return Err(Error::new(
-                ErrorKind::Empty,
-                "the recording has no data rows",
-            ));
+            out.records.push(tb.texts());
         }
         Ok(out)
     }
@@ -355,7 +306,9 @@ impl Recording {
         let mut wr = csv::Writer::from_writer(w);
         let io = |e: csv::Error| Error::new(ErrorKind::Io, e.to_string());
         wr.write_record(&self.headers).map_err(io)?;
-        let idx = |names: [&str; 3]| names.map(|n| col(&self.headers, n));
+        let idx = |names: [&str; 3]| {
+            names.map(|n| self.headers.iter().position(|h| h.eq_ignore_ascii_case(n)))
+        };
         let (ai, gi, mi) = (idx(ACC_COLS), idx(GYR_COLS), idx(MAG_COLS));
         for (i, rec) in self.records.iter().enumerate() {
             let mut cells = rec.clone();

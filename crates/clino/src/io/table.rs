@@ -121,11 +121,10 @@ impl TableReader<std::fs::File> {
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         if path.is_dir() {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                "is a directory, not a recording",
-            )
-            .in_file(path));
+            return Err(
+                Error::new(ErrorKind::InvalidInput, "is a directory, not a recording")
+                    .in_file(path),
+            );
         }
         let f = std::fs::File::open(path).map_err(|e| Error::from(e).in_file(path))?;
         Self::new(f, path)
@@ -225,8 +224,7 @@ impl<R: Read> TableReader<R> {
 
     /// Index of column `name`, or an error naming it and the header.
     pub fn require(&self, name: &str) -> Result<usize> {
-        self.find(&[name])
-            .ok_or_else(|| self.missing(name, ""))
+        self.find(&[name]).ok_or_else(|| self.missing(name, ""))
     }
 
     /// The error for a missing column `name`, with a hint.

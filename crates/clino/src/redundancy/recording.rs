@@ -22,6 +22,7 @@ use super::diagnose::{
 use super::fault_set::FaultSet;
 use super::model::{Forces, N_CHAINS, SixAxisAccelerometer};
 use super::restore::{Restorer, gyro_derivative, gyro_derivative_sigma};
+use crate::io::TableReader;
 use crate::{Error, ErrorKind, Result};
 use clino_core::Vec3;
 use std::io::{Read, Write};
@@ -59,49 +60,25 @@ pub struct Recording {
     pub ignored_columns: Vec<String>,
 }
 
-/// Read a recording from a CSV file (format in the module doc).
+/// Read a recording from a CSV file (format in the module doc; [`TableReader`]'s rules).
 pub fn read_csv(path: &Path) -> Result<Recording> {
-    let file = std::fs::File::open(path).map_err(|e| Error::from(e).in_file(path))?;
-    read_csv_from(file, path)
+    read_table(TableReader::open(path)?)
 }
 
 /// Read a recording from any reader; `name` is used in error messages.
 pub fn read_csv_from<R: Read>(reader: R, name: &Path) -> Result<Recording> {
-    let mut rdr = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .trim(csv::Trim::All)
-        .from_reader(reader);
-    let header = rdr
-        .byte_headers()
-        .map_err(|e| {
-            Error::new(ErrorKind::Parse, format!("header: {e}"))
-                .in_file(name)
-                .at_line(1)
-        })?
-        .clone();
-    let names: Vec<String> = header
-        .iter()
-        .map(|h| String::from_utf8_lossy(h).into_owned())
-        .collect();
+    read_table(TableReader::new(reader, name)?)
+}
+
+/// Read a recording from a table whose header has been read.
+pub fn read_table<R: Read>(mut tb: TableReader<R>) -> Result<Recording> {
+    let name = tb.file().to_path_buf();
     let mut idx = [0usize; 13];
     for (k, col) in COLUMNS.iter().enumerate() {
-        idx[k] = names
-            .iter()
-            .position(|n| n.eq_ignore_ascii_case(col))
-            .ok_or_else(|| {
-                Error::new(
-                    ErrorKind::MissingColumn,
-                    format!(
-                        "required column '{col}' not in the header ({})",
-                        names.join(",")
-                    ),
-                )
-                .in_file(name)
-                .at_line(1)
-                .at_column(*col)
-            })?;
+        idx[k] = tb.find(&[col]).ok_or_else(|| tb.missing(col, "required"))?;
     }
-    let ignored = names
+    let ignored = tb
+        .header()
         .iter()
         .filter(|n| !COLUMNS.iter().any(|c| n.eq_ignore_ascii_case(c)))
         .cloned()
@@ -110,53 +87,18 @@ pub fn read_csv_from<R: Read>(reader: R, name: &Path) -> Result<Recording> {
         ignored_columns: ignored,
         ..Default::default()
     };
-    let mut row = csv::ByteRecord::new();
-    loop {
-        let more = rdr.read_byte_record(&mut row).map_err(|e| {
-            let line = e.position().map(|p| p.line());
-            let mut err = Error::new(ErrorKind::Parse, e.to_string()).in_file(name);
-            if let Some(l) = line {
-                err = err.at_line(l);
-            }
-            err
-        })?;
-        if !more {
-            break;
-        }
-        let line = row.position().map_or(0, |p| p.line());
+    while tb.next_record()? {
+        let line = tb.line();
         if rec.t_s.is_empty() {
             rec.first_data_line = line;
         }
         let mut v = [0.0f64; 13];
-        for (k, col) in COLUMNS.iter().enumerate() {
-            let cell = row.get(idx[k]).unwrap_or(b"");
-            let text = std::str::from_utf8(cell).unwrap_or("").trim();
-            let x: f64 = text.parse().map_err(|_| {
-                Error::new(
-                    ErrorKind::Parse,
-                    format!("not a number: '{}'", String::from_utf8_lossy(cell)),
-                )
-                .in_file(name)
-                .at_line(line)
-                .at_column(*col)
-            })?;
-            if !x.is_finite() {
-                return Err(Error::new(
-                    ErrorKind::InvalidInput,
-                    format!("value must be finite, got {text}"),
-                )
-                .in_file(name)
-                .at_line(line)
-                .at_column(*col));
-            }
-            v[k] = x;
+        for (k, i) in idx.iter().enumerate() {
+            v[k] = tb.finite(*i)?;
         }
         rec.t_s.push(v[0]);
         rec.forces.push(Forces::from_fn(|i, _| v[1 + i]));
         rec.gyr_rad_s.push(Vec3::new(v[10], v[11], v[12]));
-    }
-    if rec.t_s.is_empty() {
-        return Err(Error::new(ErrorKind::Empty, "no data rows").in_file(name));
     }
     uniform_step(&rec.t_s, rec.first_data_line).map_err(|e| e.in_file(name))?;
     Ok(rec)

@@ -21,6 +21,7 @@
 //! * temperature: [`TEMP_RANGE_C`] (−100 … 300 °C).
 
 use crate::error::short;
+use crate::io::TableReader;
 use crate::{Error, ErrorKind, Result};
 use clino_core::{G0, Vec3};
 use std::path::Path;
@@ -135,22 +136,16 @@ pub struct StationReading {
     pub temp_c: Option<f64>,
 }
 
-/// Read stations from CSV text.
+/// Read stations from CSV text (errors name `<input>`).
 pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
-    let mut rdr = csv::ReaderBuilder::new().has_headers(true).from_reader(rd);
-    let headers: Vec<String> = rdr
-        .headers()
-        .map_err(|e| Error::new(ErrorKind::Parse, format!("bad header: {e}")).at_line(1))?
-        .iter()
-        .map(|s| s.trim().to_string())
-        .collect();
-    let col = |n: &str| headers.iter().position(|h| h == n);
+    stations_from(TableReader::new(rd, "<input>")?)
+}
+
+/// Read stations from a table whose header has been read ([`TableReader`]'s rules).
+pub fn stations_from<R: std::io::Read>(mut tb: TableReader<R>) -> Result<Vec<StationReading>> {
     let need = |n: &str| {
-        col(n).ok_or_else(|| {
-            Error::new(ErrorKind::MissingColumn, "survey stations need this column")
-                .at_line(1)
-                .at_column(n)
-        })
+        tb.find(&[n])
+            .ok_or_else(|| tb.missing(n, "survey stations need this column"))
     };
     let md = need("md_m")?;
     let acc = [
@@ -158,37 +153,21 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
         need("acc_y_m_s2")?,
         need("acc_z_m_s2")?,
     ];
+    let col = |n: &str| tb.find(&[n]);
     let mag = match (col("mag_x_uT"), col("mag_y_uT"), col("mag_z_uT")) {
         (Some(a), Some(b), Some(c)) => Some([a, b, c]),
         (None, None, None) => None,
         _ => {
-            return Err(Error::new(
-                ErrorKind::MissingColumn,
+            return Err(tb.missing(
+                "mag_x_uT",
                 "the magnetometer needs all of mag_x_uT, mag_y_uT, mag_z_uT",
-            )
-            .at_line(1)
-            .at_column("mag_x_uT"));
+            ));
         }
     };
     let temp = col("temp_c");
     let mut out = Vec::new();
-    for rec in rdr.records() {
-        let rec = rec.map_err(|e| {
-            Error::new(ErrorKind::Parse, format!("malformed row: {e}"))
-                .at_line(e.position().map(|p| p.line()).unwrap_or(0))
-        })?;
-        let line = rec.position().map(|p| p.line()).unwrap_or(0);
-        let num = |i: usize| -> Result<f64> {
-            let s = rec.get(i).unwrap_or("").trim();
-            s.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    Error::new(ErrorKind::Parse, format!("not a finite number: '{s}'"))
-                        .at_line(line)
-                        .at_column(headers[i].clone())
-                })
-        };
+    while tb.next_record()? {
+        let num = |i: usize| tb.finite(i);
         let f = Vec3::new(num(acc[0])?, num(acc[1])?, num(acc[2])?);
         let h = match mag {
             Some(m) => Some(Vec3::new(num(m[0])?, num(m[1])?, num(m[2])?)),
@@ -200,28 +179,20 @@ pub fn parse_stations<R: std::io::Read>(rd: R) -> Result<Vec<StationReading>> {
         };
         let r = StationReading {
             md_m: num(md)?,
-            line,
+            line: tb.line(),
             acc_m_s2: f,
             mag_ut: h,
             temp_c,
         };
-        r.check()?;
+        r.check().map_err(|e| e.in_file(tb.file()))?;
         out.push(r);
-    }
-    if out.is_empty() {
-        return Err(Error::new(
-            ErrorKind::Empty,
-            "the station file has no data rows",
-        ));
     }
     Ok(out)
 }
 
 /// Read stations from a CSV file.
 pub fn read_stations(path: &Path) -> Result<Vec<StationReading>> {
-    let f = std::fs::File::open(path)
-        .map_err(|e| Error::new(ErrorKind::Io, format!("cannot open: {e}")).in_file(path))?;
-    parse_stations(f).map_err(|e| e.in_file(path))
+    stations_from(TableReader::open(path)?)
 }
 
 /// Calibrate raw station readings with a calibration file (its accelerometer and

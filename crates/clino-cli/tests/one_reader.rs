@@ -1,0 +1,141 @@
+//! Issue 10's rule for every command that reads a recording: a comment line,
+//! a byte-order mark or CRLF line endings change nothing; one reader, one set
+//! of rules.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn clino(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_clino"))
+        .args(args)
+        .output()
+        .expect("run clino")
+}
+
+/// The same content under the same file name in two directories: plain, and
+/// with a BOM, comment lines before the header and between rows, and CRLF.
+fn variants(test: &str, text: &str) -> (PathBuf, PathBuf) {
+    let base = std::env::temp_dir().join(format!("clino-one-reader-{}-{test}", std::process::id()));
+    let (a, b) = (base.join("plain"), base.join("dressed"));
+    for d in [&a, &b] {
+        let _ = std::fs::remove_dir_all(d);
+        std::fs::create_dir_all(d).unwrap();
+    }
+    let plain: String = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let mut dressed = String::from("\u{feff}# exported by a spreadsheet\r\n# second comment\r\n");
+    for (i, l) in plain.lines().enumerate() {
+        dressed.push_str(l);
+        dressed.push_str("\r\n");
+        if i == 3 {
+            dressed.push_str("# a comment between rows\r\n");
+        }
+    }
+    std::fs::write(a.join("rec.csv"), plain).unwrap();
+    std::fs::write(b.join("rec.csv"), dressed).unwrap();
+    (a.join("rec.csv"), b.join("rec.csv"))
+}
+
+fn same_output(args: &[&str], a: &PathBuf, b: &PathBuf) {
+    let run = |p: &PathBuf| {
+        let mut v: Vec<&str> = args.to_vec();
+        let s = p.to_str().unwrap().to_string();
+        let s: &'static str = Box::leak(s.into_boxed_str());
+        let dir = p.parent().unwrap().to_str().unwrap().to_string();
+        let out: &'static str = Box::leak(format!("{dir}/out.toml").into_boxed_str());
+        for x in v.iter_mut() {
+            if *x == "{}" {
+                *x = s;
+            } else if *x == "{out}" {
+                *x = out;
+            }
+        }
+        let o = clino(&v);
+        assert!(
+            o.status.success(),
+            "{args:?} on {}: {}",
+            p.display(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        // line numbers legitimately count the comment lines: drop them
+        let text = String::from_utf8_lossy(&o.stdout).replace(&dir, "DIR");
+        let mut kept = String::new();
+        let mut skipping = false;
+        for l in text.lines() {
+            if l.contains("\"lines\": [") {
+                skipping = !l.contains(']');
+                continue;
+            }
+            if skipping {
+                skipping = !l.contains(']');
+                continue;
+            }
+            if l.trim_start().starts_with("\"line\":") {
+                continue;
+            }
+            kept.push_str(l);
+            kept.push('\n');
+        }
+        kept
+    };
+    assert_eq!(run(a), run(b), "{args:?}");
+}
+
+const EXCERPT: &str = include_str!("../../clino/data/broad_07_excerpt.csv");
+
+#[test]
+fn fuse_eval_allan_and_static_ignore_comments_bom_and_crlf() {
+    let (a, b) = variants("imu", EXCERPT);
+    same_output(&["fuse", "{}"], &a, &b);
+    same_output(&["fuse", "{}", "--filter", "mahony:kp=0.5"], &a, &b);
+    same_output(&["eval", "{}", "-f", "dynamic,madgwick"], &a, &b);
+    same_output(&["allan", "{}", "--json"], &a, &b);
+}
+
+#[test]
+fn calibration_and_survey_recordings_read_comments_too() {
+    // a `#` line used to make `calibrate` say "the recording needs a time column"
+    let mut rec = String::from("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n");
+    let g = 9.80665;
+    let poses = [
+        [g, 0.0, 0.0],
+        [-g, 0.0, 0.0],
+        [0.0, g, 0.0],
+        [0.0, -g, 0.0],
+        [0.0, 0.0, g],
+        [0.0, 0.0, -g],
+        [g * 0.6, g * 0.8, 0.0],
+        [0.0, -g * 0.6, g * 0.8],
+        [g * 0.8, 0.0, -g * 0.6],
+        [-g * 0.48, g * 0.6, g * 0.64],
+        [g * 0.36, -g * 0.48, -g * 0.8],
+        [-g * 0.8, -g * 0.36, g * 0.48],
+    ];
+    let mut t = 0.0;
+    for p in poses {
+        for k in 0..200 {
+            let n = 1e-3 * ((k * 7919) % 13) as f64;
+            rec.push_str(&format!(
+                "{t},{},{},{}\n",
+                1.01 * p[0] + 0.05 + n,
+                0.99 * p[1] - 0.03,
+                p[2] + 0.02 - n
+            ));
+            t += 0.01;
+        }
+        t += 1.0;
+    }
+    let (a, b) = variants("calib", &rec);
+    same_output(
+        &["calibrate", "accel", "{}", "--output", "{out}", "--json"],
+        &a,
+        &b,
+    );
+    let stations = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n\
+                    100,0.5,0.3,9.79,20,1,-40\n200,0.9,0.2,9.75,19,3,-41\n300,1.5,0.1,9.68,18,4,-41\n";
+    let (a, b) = variants("survey", stations);
+    same_output(&["survey", "{}", "--json"], &a, &b);
+}
