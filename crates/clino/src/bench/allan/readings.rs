@@ -30,7 +30,8 @@ pub const SLOPE_TOL: f64 = 0.1;
 /// Half-width of the window of the local slope, decades of τ.
 pub const SLOPE_WINDOW_DECADES: f64 = 0.2;
 
-/// Local log-log slopes and their standard errors at every point, with `cov`
+/// Local log-log slopes and their standard errors at every point (over the
+/// points within ±0.2 decade and at least the neighbours on each side), with `cov`
 /// the covariance of σ̂² between points and `avar` the expected σ² at each.
 pub fn local_slopes(pts: &[AllanPoint], cov: &[Vec<f64>], avar: &[f64]) -> Vec<(f64, f64)> {
     let k = pts.len();
@@ -38,7 +39,11 @@ pub fn local_slopes(pts: &[AllanPoint], cov: &[Vec<f64>], avar: &[f64]) -> Vec<(
         .map(|i| {
             let lt = pts[i].tau_s.log10();
             let win: Vec<usize> = (0..k)
-                .filter(|&j| (pts[j].tau_s.log10() - lt).abs() <= SLOPE_WINDOW_DECADES + 1e-9)
+                .filter(|&j| {
+                    j + 1 == i
+                        || j == i + 1
+                        || (pts[j].tau_s.log10() - lt).abs() <= SLOPE_WINDOW_DECADES + 1e-9
+                })
                 .filter(|&j| pts[j].adev > 0.0)
                 .collect();
             if win.len() < 2 {
@@ -145,13 +150,16 @@ pub(super) fn white_region(
     pts: &[AllanPoint],
     slopes: &[(f64, f64)],
 ) -> Option<std::ops::Range<usize>> {
-    let mut best = runs(pts.len(), |i| (slopes[i].0 + 0.5).abs() <= SLOPE_TOL)
-        .into_iter()
-        .filter(|r| r.len() >= 3)
-        .max_by(|a, b| {
-            let e = |r: &std::ops::Range<usize>| r.clone().map(|j| pts[j].edf).sum::<f64>();
-            e(a).total_cmp(&e(b))
-        })?;
+    let mut best = runs(pts.len(), |i| {
+        let s = slopes[i].0;
+        s >= -0.5 - SLOPE_TOL && s <= -0.5 + SLOPE_TOL / 2.0
+    })
+    .into_iter()
+    .filter(|r| r.len() >= 3)
+    .max_by(|a, b| {
+        let e = |r: &std::ops::Range<usize>| r.clone().map(|j| pts[j].edf).sum::<f64>();
+        e(a).total_cmp(&e(b))
+    })?;
     while best.len() > 3 {
         let rest = best.start + 1..best.end;
         let c2: f64 = rest
@@ -198,7 +206,7 @@ pub(super) fn read_k(pts: &[AllanPoint], slopes: &[(f64, f64)], cov: &[Vec<f64>]
     let k = pts.len();
     let cand = runs(k, |i| {
         let (s, se) = slopes[i];
-        s >= 0.25 && (s - 0.5).abs() <= SLOPE_TOL.max(Z99 * se)
+        s >= 0.5 - SLOPE_TOL && s <= 0.5 + SLOPE_TOL.max(Z99 * se)
     });
     let last = slopes.iter().rev().find(|s| s.0.is_finite());
     let mut best: Option<(std::ops::Range<usize>, f64, f64)> = None;
