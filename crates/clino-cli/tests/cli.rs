@@ -272,3 +272,104 @@ fn fuse_reads_stdin() {
     assert_eq!(out.lines().count(), 3);
     assert!(out.lines().nth(2).unwrap().ends_with(",gyro_only"), "{out}");
 }
+
+/// A static record at 100 Hz: `n` rows of noise, the gyro z axis constant.
+fn static_rows(n: usize, t0: f64) -> String {
+    let mut s = String::new();
+    for i in 0..n {
+        let a = ((i * 7919) % 13) as f64 * 1e-4;
+        let b = ((i * 104_729) % 17) as f64 * 1e-3;
+        s.push_str(&format!(
+            "{:.2},{a},{:e},0.01,{b},{a},9.8\n",
+            t0 + i as f64 * 0.01,
+            -a
+        ));
+    }
+    s
+}
+
+#[test]
+fn allan_and_static_read_comments_and_ignore_unused_nan_columns() {
+    let d = scratch("allan-broad");
+    let input = write(&d, "broad.csv", excerpt());
+    let o = clino(&["allan", &input, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["axes"].as_array().unwrap().len(), 6);
+    let r = &v["axes"][0]["ieee952"];
+    for key in [
+        "n", "n_lo", "n_hi", "n_reason", "b", "b_tau_s", "b_reason", "k", "k_reason",
+    ] {
+        assert!(r.get(key).is_some(), "{key}: {r}");
+    }
+    assert!(v["axes"][0]["fit"]["tau_from_s"].as_f64().unwrap() > 0.0);
+    let o = clino(&["testbench", "static", &input, "--filter", "mahony"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn allan_and_static_refuse_gaps_and_short_records_with_the_file() {
+    let d = scratch("allan-gaps");
+    let mut text = format!("# rest\n{HEAD}");
+    text.push_str(&static_rows(300, 0.0));
+    text.push_str(&static_rows(500, 103.0)); // 100-s gap after t = 2.99 s
+    let input = write(&d, "gap.csv", &text);
+    for args in [
+        vec!["allan", input.as_str()],
+        vec!["testbench", "static", input.as_str()],
+    ] {
+        let o = clino(&args);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {e}");
+        // the first row after the gap: 2 header lines + 301st data row
+        assert!(
+            e.contains("gap.csv:303: column 't_s': time gap of 100.01"),
+            "{e}"
+        );
+        assert!(e.contains("--gaps longest"), "{e}");
+    }
+    let o = clino(&["allan", &input, "--gaps", "longest", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("analysing the longest"),
+        "{}",
+        stderr(&o)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["samples"], 500);
+    assert!((v["rate_hz"].as_f64().unwrap() - 100.0).abs() < 1e-6);
+    // too short: the error names the file
+    let short = write(&d, "short.csv", &format!("{HEAD}{}", static_rows(26, 0.0)));
+    let o = clino(&["allan", &short]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("short.csv: 26 samples: an Allan analysis needs at least 100"),
+        "{e}"
+    );
+}
+
+#[test]
+fn allan_explains_a_constant_channel() {
+    let d = scratch("allan-const");
+    let input = write(&d, "c.csv", &format!("{HEAD}{}", static_rows(2000, 0.0)));
+    let o = clino(&["allan", &input, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: gyr_z: constant channel"),
+        "{}",
+        stderr(&o)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let z = &v["axes"][2];
+    assert_eq!(z["status"], "constant");
+    assert!(z["ieee952"]["n"].is_null());
+    assert!(
+        z["ieee952"]["n_reason"]
+            .as_str()
+            .unwrap()
+            .contains("constant")
+    );
+    let o = clino(&["allan", &input]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("gyr_z"));
+}

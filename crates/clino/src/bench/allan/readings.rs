@@ -8,18 +8,27 @@
 //! **Regions.** The local slope at each point is the least-squares slope of
 //! ln σ on ln τ over the points within ±0.2 decade ([`SLOPE_WINDOW_DECADES`]),
 //! with its standard error from the covariance of the estimates. A point
-//! belongs to the −½ region when its slope is within [`SLOPE_TOL`] of −½. The
-//! +½ region is a run of points whose slopes are nearer +½ than 0 and within
-//! max(`SLOPE_TOL`, 2.58·se) of +½, and whose overall rise is significant
+//! belongs to the −½ region when its slope lies in [−½ − [`SLOPE_TOL`], −½ + `SLOPE_TOL`/2]
+//! (a run of at least three). The +½ region is a run of points whose slopes
+//! lie in [+½ − `SLOPE_TOL`, +½ + max(`SLOPE_TOL`, 2.58·se)], and whose overall rise is significant
 //! (the slope of the run, less 2.58 standard errors, is above 0); the floor
 //! needs a local slope at the minimum within max(`SLOPE_TOL`, 2.58·se) of 0
 //! that is distinguishable from both −½ and +½. Otherwise the reading is
 //! `None` with the reason.
 //!
 //! **Line readings.** Through a region of slope β, c² = Σ w_j σ̂_j²·τ_j^(−2β) / Σ w_j
-//! with w_j the degrees of freedom of each point (unbiased in σ²; its variance
-//! from the full covariance, so correlated points count as such); the interval
-//! is chi-squared with Satterthwaite's edf = 2c⁴/Var(c²).
+//! (unbiased in σ²; its variance from the full covariance, so correlated points
+//! count as such); the interval is chi-squared with Satterthwaite's
+//! edf = 2c⁴/Var(c²). For `n`, w_j are the degrees of freedom of each point
+//! (the shortest τ, best determined, are also the least touched by the floor);
+//! for `k`, w_j = 1 (the shortest τ of a +½ region are the most touched by it).
+//!
+//! These are the conventional readings, not the noise terms: each carries the
+//! share of the other terms at its τ (`n` and `k` read high where the floor is
+//! near, `b` reads high by the white noise and random walk at the minimum, and
+//! is only an upper bound of B where white noise meets random walk without a
+//! floor). Their intervals are those of the reading; the fitted model
+//! ([`super::fit`]) separates the terms.
 
 use super::model::{B_FLOOR, Z99, chi2_factors};
 use super::{AllanPoint, Estimate, Reading, Region, g3};
@@ -30,7 +39,8 @@ pub const SLOPE_TOL: f64 = 0.1;
 /// Half-width of the window of the local slope, decades of τ.
 pub const SLOPE_WINDOW_DECADES: f64 = 0.2;
 
-/// Local log-log slopes and their standard errors at every point, with `cov`
+/// Local log-log slopes and their standard errors at every point (over the
+/// points within ±0.2 decade and at least the neighbours on each side), with `cov`
 /// the covariance of σ̂² between points and `avar` the expected σ² at each.
 pub fn local_slopes(pts: &[AllanPoint], cov: &[Vec<f64>], avar: &[f64]) -> Vec<(f64, f64)> {
     let k = pts.len();
@@ -38,7 +48,11 @@ pub fn local_slopes(pts: &[AllanPoint], cov: &[Vec<f64>], avar: &[f64]) -> Vec<(
         .map(|i| {
             let lt = pts[i].tau_s.log10();
             let win: Vec<usize> = (0..k)
-                .filter(|&j| (pts[j].tau_s.log10() - lt).abs() <= SLOPE_WINDOW_DECADES + 1e-9)
+                .filter(|&j| {
+                    j + 1 == i
+                        || j == i + 1
+                        || (pts[j].tau_s.log10() - lt).abs() <= SLOPE_WINDOW_DECADES + 1e-9
+                })
                 .filter(|&j| pts[j].adev > 0.0)
                 .collect();
             if win.len() < 2 {
@@ -72,8 +86,12 @@ fn line(
     range: &std::ops::Range<usize>,
     beta: f64,
     cov: &[Vec<f64>],
+    weighted: bool,
 ) -> (f64, f64) {
-    let w: Vec<f64> = range.clone().map(|j| pts[j].edf).collect();
+    let w: Vec<f64> = range
+        .clone()
+        .map(|j| if weighted { pts[j].edf } else { 1.0 })
+        .collect();
     let sw: f64 = w.iter().sum();
     let f: Vec<f64> = range
         .clone()
@@ -145,13 +163,16 @@ pub(super) fn white_region(
     pts: &[AllanPoint],
     slopes: &[(f64, f64)],
 ) -> Option<std::ops::Range<usize>> {
-    let mut best = runs(pts.len(), |i| (slopes[i].0 + 0.5).abs() <= SLOPE_TOL)
-        .into_iter()
-        .filter(|r| r.len() >= 3)
-        .max_by(|a, b| {
-            let e = |r: &std::ops::Range<usize>| r.clone().map(|j| pts[j].edf).sum::<f64>();
-            e(a).total_cmp(&e(b))
-        })?;
+    let mut best = runs(pts.len(), |i| {
+        let s = slopes[i].0;
+        s >= -0.5 - SLOPE_TOL && s <= -0.5 + SLOPE_TOL / 2.0
+    })
+    .into_iter()
+    .filter(|r| r.len() >= 3)
+    .max_by(|a, b| {
+        let e = |r: &std::ops::Range<usize>| r.clone().map(|j| pts[j].edf).sum::<f64>();
+        e(a).total_cmp(&e(b))
+    })?;
     while best.len() > 3 {
         let rest = best.start + 1..best.end;
         let c2: f64 = rest
@@ -185,7 +206,7 @@ pub(super) fn read_n(
             "no white-noise region: no three consecutive points with a local slope within {SLOPE_TOL} of −1/2"
         ));
     };
-    let (c2, var) = line(pts, &r, -0.5, cov);
+    let (c2, var) = line(pts, &r, -0.5, cov, true);
     Reading {
         estimate: Some(estimate(c2, var, 1.0)),
         region: Some(region(pts, &r)),
@@ -198,7 +219,7 @@ pub(super) fn read_k(pts: &[AllanPoint], slopes: &[(f64, f64)], cov: &[Vec<f64>]
     let k = pts.len();
     let cand = runs(k, |i| {
         let (s, se) = slopes[i];
-        s >= 0.25 && (s - 0.5).abs() <= SLOPE_TOL.max(Z99 * se)
+        s >= 0.5 - SLOPE_TOL && s <= 0.5 + SLOPE_TOL.max(Z99 * se)
     });
     let last = slopes.iter().rev().find(|s| s.0.is_finite());
     let mut best: Option<(std::ops::Range<usize>, f64, f64)> = None;
@@ -233,7 +254,7 @@ pub(super) fn read_k(pts: &[AllanPoint], slopes: &[(f64, f64)], cov: &[Vec<f64>]
             None => "no +1/2 (random-walk) region".to_string(),
         });
     };
-    let (c2, var) = line(pts, &r, 0.5, cov);
+    let (c2, var) = line(pts, &r, 0.5, cov, false);
     Reading {
         estimate: Some(estimate(c2, var, 3.0)),
         region: Some(region(pts, &r)),
