@@ -32,6 +32,8 @@ enum Command {
     Calibrate(cmd::calibrate::Args),
     /// Drilling survey: inclination, azimuth, toolface, roll-test QC, minimum-curvature trajectory.
     Survey(cmd::survey::Args),
+    /// Convert a recording between CSV and Parquet (same column names).
+    Convert(cmd::convert::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -54,6 +56,7 @@ fn main() -> std::process::ExitCode {
         Command::Stewart(a) => cmd::stewart::run(a),
         Command::Calibrate(a) => cmd::calibrate::run(a),
         Command::Survey(a) => cmd::survey::run(a),
+        Command::Convert(a) => cmd::convert::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

@@ -139,3 +139,49 @@ fn calibration_and_survey_recordings_read_comments_too() {
     let (a, b) = variants("survey", stations);
     same_output(&["survey", "{}", "--json"], &a, &b);
 }
+
+#[test]
+fn parquet_in_and_out_equals_the_csv_path_to_the_last_bit() {
+    let d = std::env::temp_dir().join(format!("clino-parquet-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let csv_in = d.join("in.csv");
+    std::fs::write(&csv_in, EXCERPT).unwrap();
+    let p = |n: &str| d.join(n).to_str().unwrap().to_string();
+    let ok = |args: &[&str]| {
+        let o = clino(args);
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    ok(&["convert", csv_in.to_str().unwrap(), &p("in.parquet")]);
+    for f in ["dynamic", "mahony", "complementary:tau=0.2"] {
+        ok(&["fuse", csv_in.to_str().unwrap(), "-f", f, "-o", &p("a.csv")]);
+        ok(&["fuse", &p("in.parquet"), "-f", f, "-o", &p("a.parquet")]);
+        ok(&["convert", &p("a.parquet"), &p("b.csv"), "--text", "status"]);
+        let (a, b) = (
+            std::fs::read(d.join("a.csv")).unwrap(),
+            std::fs::read(d.join("b.csv")).unwrap(),
+        );
+        assert!(a == b, "{f}: Parquet path differs from CSV path");
+    }
+    // the same rules: eval reads the Parquet recording like the CSV one
+    let e1 = clino(&["eval", csv_in.to_str().unwrap(), "-f", "dynamic", "--json"]);
+    let e2 = clino(&["eval", &p("in.parquet"), "-f", "dynamic", "--json"]);
+    let strip = |o: &std::process::Output| {
+        String::from_utf8_lossy(&o.stdout).replace("in.parquet", "in.csv")
+    };
+    assert_eq!(strip(&e1), strip(&e2));
+    // not a Parquet file: a clear error naming it, nothing written
+    std::fs::write(d.join("bad.parquet"), "t_s,x\n1,2\n").unwrap();
+    let o = clino(&["fuse", &p("bad.parquet"), "-o", &p("out.csv")]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("bad.parquet") && err.contains("Parquet"),
+        "{err}"
+    );
+    assert!(!d.join("out.csv").exists());
+}

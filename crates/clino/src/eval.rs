@@ -210,7 +210,7 @@ pub fn score_reader<R: Read>(
 }
 
 /// The recordings named by `paths`: files as given, directories replaced by
-/// the `*.csv` files inside them (not recursive), sorted by name.
+/// the `*.csv` and `*.parquet` files inside them (not recursive), sorted by name.
 pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for p in paths {
@@ -219,15 +219,19 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             for entry in std::fs::read_dir(p).map_err(|e| Error::from(e).in_file(p))? {
                 let path = entry.map_err(|e| Error::from(e).in_file(p))?.path();
                 if path.is_file()
-                    && path
-                        .extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+                    && path.extension().is_some_and(|e| {
+                        e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("parquet")
+                    })
                 {
                     inside.push(path);
                 }
             }
             if inside.is_empty() {
-                return Err(Error::new(ErrorKind::Empty, "directory holds no .csv file").in_file(p));
+                return Err(Error::new(
+                    ErrorKind::Empty,
+                    "directory holds no .csv or .parquet file",
+                )
+                .in_file(p));
             }
             inside.sort();
             out.extend(inside);

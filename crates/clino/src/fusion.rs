@@ -40,7 +40,7 @@ use clino_core::tilt::{RollPitch, inclination};
 use clino_core::{Attitude, ImuSample, Vec3};
 use serde::Serialize;
 
-use crate::io::{CsvLineWriter, ImuCsvReader, ImuRow};
+use crate::io::{CsvLineWriter, ImuCsvReader, ImuRow, RowSink};
 use crate::{Error, ErrorKind, Result};
 
 fn invalid(msg: impl Into<String>) -> Error {
@@ -502,12 +502,28 @@ pub fn fuse_traced<R: Read, W: Write>(
     writer: W,
     config: &FilterConfig,
     opts: &FuseOptions,
-    mut trace: Option<&mut TiltTrace>,
+    trace: Option<&mut TiltTrace>,
 ) -> Result<FuseReport> {
-    let mut pipeline = config.pipeline()?;
     let mut out = CsvLineWriter::new(writer);
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     out.header(&FUSE_HEADER).map_err(io_err)?;
+    let rep = fuse_into(reader, &mut out, config, opts, trace)?;
+    out.finish().map_err(io_err)?;
+    Ok(rep)
+}
+
+/// [`fuse_traced`] into any [`RowSink`] (CSV or Parquet), which receives the
+/// [`FUSE_HEADER`] columns row by row (the caller writes the header and
+/// finishes the sink).
+pub fn fuse_into<R: Read, S: RowSink>(
+    reader: &mut ImuCsvReader<R>,
+    out: &mut S,
+    config: &FilterConfig,
+    opts: &FuseOptions,
+    mut trace: Option<&mut TiltTrace>,
+) -> Result<FuseReport> {
+    let mut pipeline = config.pipeline()?;
+    let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     // the calibration file's range checks name the row; the model is applied by the pipeline
     if let Some(cal) = opts.calibration {
         pipeline = pipeline.with_calibration(Some(cal.calibration()));
@@ -525,7 +541,7 @@ pub fn fuse_traced<R: Read, W: Write>(
         Ok(())
     };
     let mut report = FuseReport::default();
-    let mut emit = |out: &mut CsvLineWriter<W>, row: &ImuRow, q: Option<Attitude>, st: Status| {
+    let mut emit = |out: &mut S, row: &ImuRow, q: Option<Attitude>, st: Status| {
         out.f64(row.sample.t_s);
         write_attitude(out, q, row.sample.t_s, trace.as_deref_mut());
         out.str(st.as_str());
@@ -567,9 +583,8 @@ pub fn fuse_traced<R: Read, W: Write>(
                 ref_q: None,
                 movement: None,
             };
-            emit(&mut out, &row, *q, status).map_err(io_err)?;
+            emit(out, &row, *q, status).map_err(io_err)?;
         }
-        out.finish().map_err(io_err)?;
         return Ok(report);
     }
     while let Some(row) = reader.next_row()? {
@@ -579,15 +594,14 @@ pub fn fuse_traced<R: Read, W: Write>(
             return Err(dropout_error(reader, &row, o.status));
         }
         report.add(o.status, row.line);
-        emit(&mut out, &row, o.attitude, o.status).map_err(io_err)?;
+        emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
-    out.finish().map_err(io_err)?;
     Ok(report)
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.
-fn write_attitude<W: Write>(
-    out: &mut CsvLineWriter<W>,
+fn write_attitude<S: RowSink>(
+    out: &mut S,
     q: Option<Attitude>,
     t_s: f64,
     trace: Option<&mut TiltTrace>,

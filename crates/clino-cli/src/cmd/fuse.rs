@@ -3,21 +3,26 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use clino::fusion::{FilterConfig, FuseOptions, TiltTrace, apply_params, fuse_traced, parse_spec};
-use clino::io::{AtomicFile, ImuCsvReader};
+use clino::fusion::{
+    FUSE_HEADER, FilterConfig, FuseOptions, FuseReport, TiltTrace, apply_params, fuse_into,
+    fuse_traced, parse_spec,
+};
+use clino::io::{AtomicFile, ImuCsvReader, ParquetRowWriter};
 
 use super::{GainArgs, ReadArgs, StageArgs};
 
 /// Arguments of `clino fuse`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Input recording (CSV; `#` lines are comments; columns found by header name). `-` reads stdin.
+    /// Input recording: CSV (`#` lines are comments; columns found by header name) or Parquet
+    /// (`.parquet`, the same column names). `-` reads CSV from stdin.
     pub input: PathBuf,
     /// Filter: poisson, complementary, mahony, madgwick or dynamic (clino's own), with any
     /// parameter as NAME:KEY=VALUE,… (`clino fuse --help` lists them all with units).
     #[arg(long, short = 'f', default_value = "dynamic", long_help = clino::fusion::filter_help())]
     pub filter: String,
-    /// Output CSV (t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status); `-` or absent: stdout.
+    /// Output (t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status): CSV, or Parquet when the
+    /// name ends in `.parquet`; `-` or absent: CSV on stdout.
     /// A file is written under a temporary name and renamed at the end: a failed run leaves nothing half-written.
     #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
@@ -39,6 +44,34 @@ pub struct Args {
     pub calibration: Option<PathBuf>,
 }
 
+/// Fuse into the output the arguments name: a CSV or Parquet file (written
+/// atomically), or CSV on stdout.
+fn write_out<R: std::io::Read>(
+    a: &Args,
+    reader: &mut ImuCsvReader<R>,
+    config: &FilterConfig,
+    opts: &FuseOptions,
+    trace: Option<&mut TiltTrace>,
+) -> anyhow::Result<FuseReport> {
+    let Some(p) = a.output.as_ref().filter(|p| p.as_os_str() != "-") else {
+        let out: Box<dyn Write> = Box::new(std::io::stdout().lock());
+        return Ok(fuse_traced(reader, out, config, opts, trace)?);
+    };
+    let mut inputs: Vec<&Path> = vec![&a.input];
+    inputs.extend(a.calibration.as_deref());
+    let mut file = AtomicFile::create(p, &inputs)?;
+    let rep = if clino::io::is_parquet(p) {
+        let mut w = ParquetRowWriter::new(&mut file, &FUSE_HEADER, &["status"])?;
+        let rep = fuse_into(reader, &mut w, config, opts, trace)?;
+        w.finish().map_err(|e| clino::Error::from(e).in_file(p))?;
+        rep
+    } else {
+        fuse_traced(reader, &mut file, config, opts, trace)?
+    };
+    file.commit()?;
+    Ok(rep)
+}
+
 /// Run `clino fuse`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     // fuse uses time, gyro and accelerometer only (and temperature for a calibration)
@@ -58,34 +91,22 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let stdin = a.input.as_os_str() == "-";
     let to_file = a.output.as_ref().filter(|p| p.as_os_str() != "-");
+
     let fuse_opts = FuseOptions {
         strict: a.strict,
         calibration: calibration.as_ref(),
         // a live source or a person watching: every row as soon as it is known
         flush_rows: stdin || (to_file.is_none() && std::io::stdout().is_terminal()),
     };
-    let (input, name): (Box<dyn std::io::Read>, PathBuf) = if stdin {
-        (Box::new(std::io::stdin().lock()), PathBuf::from("<stdin>"))
-    } else {
-        let f =
-            std::fs::File::open(&a.input).map_err(|e| clino::Error::from(e).in_file(&a.input))?;
-        (Box::new(f), a.input.clone())
-    };
-    let mut reader = ImuCsvReader::new(input, name, &opts)?;
     let mut trace = a.plot.as_ref().map(|_| TiltTrace::new(20_000));
-    let rep = match to_file {
-        Some(p) => {
-            let mut inputs: Vec<&Path> = vec![&a.input];
-            inputs.extend(a.calibration.as_deref());
-            let mut file = AtomicFile::create(p, &inputs)?;
-            let rep = fuse_traced(&mut reader, &mut file, &config, &fuse_opts, trace.as_mut())?;
-            file.commit()?;
-            rep
-        }
-        None => {
-            let out: Box<dyn Write> = Box::new(std::io::stdout().lock());
-            fuse_traced(&mut reader, out, &config, &fuse_opts, trace.as_mut())?
-        }
+    let rep = if stdin {
+        let input: Box<dyn std::io::Read> = Box::new(std::io::stdin().lock());
+        let mut reader = ImuCsvReader::new(input, "<stdin>", &opts)?;
+        write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?
+    } else {
+        // CSV or Parquet, by the extension
+        let mut reader = ImuCsvReader::from_path(&a.input, &opts)?;
+        write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?
     };
     if let (Some(path), Some(trace)) = (&a.plot, &trace) {
         let title = format!("{} — {}", a.input.display(), config.label());

@@ -1,6 +1,7 @@
 //! One module per subcommand, and the argument groups they share.
 pub mod allan;
 pub mod calibrate;
+pub mod convert;
 pub mod demo;
 pub mod eval;
 pub mod fuse;

@@ -87,3 +87,46 @@ impl<W: Write> CsvLineWriter<W> {
         self.out.into_inner().map_err(|e| e.into_error())
     }
 }
+
+/// Where rows of cells go: a CSV file ([`CsvLineWriter`]) or a Parquet file
+/// ([`super::ParquetRowWriter`]), through the same calls.
+pub trait RowSink {
+    /// Append a number to the current row.
+    fn f64(&mut self, x: f64);
+    /// Append a text cell to the current row.
+    fn str(&mut self, s: &str);
+    /// End the row.
+    fn end_row(&mut self) -> std::io::Result<()>;
+    /// Push what has been written so far to the sink.
+    fn flush(&mut self) -> std::io::Result<()>;
+}
+
+impl<W: Write> RowSink for CsvLineWriter<W> {
+    fn f64(&mut self, x: f64) {
+        CsvLineWriter::f64(self, x)
+    }
+    fn str(&mut self, s: &str) {
+        CsvLineWriter::str(self, s)
+    }
+    fn end_row(&mut self) -> std::io::Result<()> {
+        CsvLineWriter::end_row(self)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        CsvLineWriter::flush(self)
+    }
+}
+
+impl<W: Write + Send> RowSink for super::ParquetRowWriter<W> {
+    fn f64(&mut self, x: f64) {
+        super::ParquetRowWriter::f64(self, x)
+    }
+    fn str(&mut self, s: &str) {
+        super::ParquetRowWriter::str(self, s)
+    }
+    fn end_row(&mut self) -> std::io::Result<()> {
+        super::ParquetRowWriter::end_row(self)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        super::ParquetRowWriter::flush(self)
+    }
+}

@@ -14,11 +14,15 @@
 //! by their header name, in any order.
 
 mod atomic;
+mod convert;
 mod csv_in;
 mod csv_out;
+pub mod parquet;
 mod table;
 
 pub use atomic::AtomicFile;
+pub use convert::convert;
 pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
-pub use csv_out::CsvLineWriter;
+pub use csv_out::{CsvLineWriter, RowSink};
+pub use parquet::{ParquetRowWriter, is_parquet};
 pub use table::TableReader;

@@ -1,4 +1,5 @@
-//! The one CSV table reader: every recording clino reads goes through it.
+//! The one table reader: every recording clino reads goes through it, CSV
+//! or Parquet (chosen by the `.parquet` extension, [`super::parquet`]).
 //!
 //! The rules, in one place:
 //!
@@ -20,6 +21,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use super::parquet::{Cell, ParquetRows};
 use crate::{Error, ErrorKind, Result};
 
 /// Wraps the byte source to drop a leading UTF-8 byte-order mark (so that a
@@ -106,8 +108,10 @@ impl<R: Read> Read for Tracked<R> {
 /// assert!(!t.next_record().unwrap());
 /// ```
 pub struct TableReader<R: Read> {
-    rdr: csv::Reader<Tracked<R>>,
+    rdr: Option<csv::Reader<Tracked<R>>>,
     rec: csv::ByteRecord,
+    /// a Parquet file instead of CSV (same names, rules and errors)
+    parquet: Option<Box<ParquetRows>>,
     file: PathBuf,
     header: Vec<String>,
     line: u64,
@@ -117,7 +121,8 @@ pub struct TableReader<R: Read> {
 }
 
 impl TableReader<std::fs::File> {
-    /// Open a file (a directory or a missing file is an error naming it).
+    /// Open a file: Parquet when its name ends in `.parquet`, CSV otherwise
+    /// (a directory or a missing file is an error naming it).
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         if path.is_dir() {
@@ -125,6 +130,21 @@ impl TableReader<std::fs::File> {
                 Error::new(ErrorKind::InvalidInput, "is a directory, not a recording")
                     .in_file(path),
             );
+        }
+        if super::parquet::is_parquet(path) {
+            let rows = ParquetRows::open(path)?;
+            let header = rows.names().to_vec();
+            return Ok(Self {
+                rdr: None,
+                rec: csv::ByteRecord::new(),
+                parquet: Some(Box::new(rows)),
+                file: path.to_path_buf(),
+                header,
+                line: 1,
+                header_line: 1,
+                rows: 0,
+                done: false,
+            });
         }
         let f = std::fs::File::open(path).map_err(|e| Error::from(e).in_file(path))?;
         Self::new(f, path)
@@ -151,8 +171,9 @@ impl<R: Read> TableReader<R> {
             .buffer_capacity(1 << 16)
             .from_reader(Tracked::new(source));
         let mut me = Self {
-            rdr,
+            rdr: Some(rdr),
             rec: csv::ByteRecord::with_capacity(256, 32),
+            parquet: None,
             file: name.into(),
             header: Vec::new(),
             line: 0,
@@ -253,24 +274,29 @@ impl<R: Read> TableReader<R> {
 
     /// Read the next non-blank record into `self.rec`, setting `self.line`.
     fn read_raw(&mut self) -> Result<bool> {
+        let Some(rdr) = self.rdr.as_mut() else {
+            return Ok(false);
+        };
         loop {
-            let more = self.rdr.read_byte_record(&mut self.rec).map_err(|e| {
+            let more = rdr.read_byte_record(&mut self.rec).map_err(|e| {
                 let line = e.position().map(|p| p.line()).unwrap_or(self.line + 1);
                 let kind = if matches!(e.kind(), csv::ErrorKind::Io(_)) {
                     ErrorKind::Io
                 } else {
                     ErrorKind::Parse
                 };
-                self.err(kind, e.to_string()).at_line(line)
+                Error::new(kind, e.to_string())
+                    .in_file(&self.file)
+                    .at_line(line)
             })?;
-            let end = self.rdr.position();
+            let end = rdr.position();
             if !more {
                 self.line = end.line();
                 return Ok(false);
             }
             // csv counts every '\n' it consumed; the record's own terminator is
             // one of them unless the record ends the file without a newline.
-            let src = self.rdr.get_ref();
+            let src = rdr.get_ref();
             let unterminated = src.eof && end.byte() == src.total && src.last != b'\n';
             self.line = end.line() - u64::from(!unterminated);
             // Blank line ("\n" is skipped by csv itself; "\r\n" or spaces arrive as one empty field).
@@ -287,6 +313,21 @@ impl<R: Read> TableReader<R> {
     pub fn next_record(&mut self) -> Result<bool> {
         if self.done {
             return Ok(false);
+        }
+        if let Some(p) = self.parquet.as_mut() {
+            if !p.next()? {
+                self.done = true;
+                if self.rows == 0 {
+                    return Err(self
+                        .err(ErrorKind::Empty, "the file has columns but no data rows")
+                        .at_line(self.header_line));
+                }
+                return Ok(false);
+            }
+            self.rows += 1;
+            // the line the row would have as CSV under its header
+            self.line = self.rows + 1;
+            return Ok(true);
         }
         if !self.read_raw()? {
             self.done = true;
@@ -317,6 +358,17 @@ impl<R: Read> TableReader<R> {
     /// Cell `i` of the current record as a number (empty → NaN; NaN and inf
     /// pass, see [`TableReader::finite`] for columns that must be finite).
     pub fn f64(&self, i: usize) -> Result<f64> {
+        if let Some(p) = &self.parquet {
+            return match p.cell(i) {
+                Cell::Num(x) => Ok(x),
+                Cell::Text(t) => parse_f64(t.as_bytes()).ok_or_else(|| {
+                    self.err_at(i, ErrorKind::Parse, format!("not a number: '{t}'"))
+                }),
+                Cell::Other(what) => {
+                    Err(self.err_at(i, ErrorKind::Parse, format!("not a number: {what}")))
+                }
+            };
+        }
         let raw = self.rec.get(i).unwrap_or(b"");
         parse_f64(raw).ok_or_else(|| {
             self.err_at(
@@ -346,11 +398,19 @@ impl<R: Read> TableReader<R> {
 
     /// Cell `i` as text (trimmed; invalid UTF-8 replaced).
     pub fn text(&self, i: usize) -> String {
+        if let Some(p) = &self.parquet {
+            return match p.cell(i) {
+                Cell::Num(x) if x.is_nan() => String::new(),
+                Cell::Num(x) => ryu::Buffer::new().format(x).to_string(),
+                Cell::Text(t) => t.to_string(),
+                Cell::Other(_) => String::new(),
+            };
+        }
         String::from_utf8_lossy(self.rec.get(i).unwrap_or(b"").trim_ascii()).into_owned()
     }
 
     /// Every cell of the current record as text.
     pub fn texts(&self) -> Vec<String> {
-        (0..self.rec.len()).map(|i| self.text(i)).collect()
+        (0..self.header.len()).map(|i| self.text(i)).collect()
     }
 }
