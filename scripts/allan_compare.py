@@ -56,9 +56,8 @@ if not os.path.exists(records[0][1]):
 TRUTH = (1e-3, 1.5e-3, 3.2e-4)
 for seed in (1, 2, 3):
     p = os.path.join(work, f"sim_{seed}.csv")
-    if not os.path.exists(p):
-        run("cargo", "run", "-q", "--release", "-p", "clino", "--example", "allan_sim", "--",
-            p, "10", "20000", *map(str, TRUTH), str(seed))
+    run("cargo", "run", "-q", "--release", "-p", "clino", "--example", "allan_sim", "--",
+        p, "10", "20000", *map(str, TRUTH), str(seed))
     records.append((f"simulated, seed {seed}", p, TRUTH))
 
 

@@ -165,7 +165,7 @@ pub(super) fn white_region(
 ) -> Option<std::ops::Range<usize>> {
     let mut best = runs(pts.len(), |i| {
         let s = slopes[i].0;
-        s >= -0.5 - SLOPE_TOL && s <= -0.5 + SLOPE_TOL / 2.0
+        (-0.5 - SLOPE_TOL..=-0.5 + SLOPE_TOL / 2.0).contains(&s)
     })
     .into_iter()
     .filter(|r| r.len() >= 3)
@@ -219,7 +219,7 @@ pub(super) fn read_k(pts: &[AllanPoint], slopes: &[(f64, f64)], cov: &[Vec<f64>]
     let k = pts.len();
     let cand = runs(k, |i| {
         let (s, se) = slopes[i];
-        s >= 0.5 - SLOPE_TOL && s <= 0.5 + SLOPE_TOL.max(Z99 * se)
+        (0.5 - SLOPE_TOL..=0.5 + SLOPE_TOL.max(Z99 * se)).contains(&s)
     });
     let last = slopes.iter().rev().find(|s| s.0.is_finite());
     let mut best: Option<(std::ops::Range<usize>, f64, f64)> = None;
