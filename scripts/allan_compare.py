@@ -19,7 +19,7 @@ For every record and axis:
     (MPU-6050), for m ≥ 34 (allantools models phase averaging below that);
   * on simulated records, clino's readings and fitted terms against the truth.
 Records: ../shared/data/static/mpu6050_rest_100hz.csv (100 Hz, 449 s) and three
-seeds of `cargo run --release -p clino --example allan_sim` (10 Hz, 20 000 s,
+seeds of `cargo run --release -p clino --example allan_sim` (100 Hz, 20 000 s,
 N = 1e-3, B = 1.5e-3, K = 3.2e-4; accelerometer terms x10).
 """
 import json
@@ -55,10 +55,10 @@ if not os.path.exists(records[0][1]):
     records[0] = (records[0][0], "/work/shared/data/static/mpu6050_rest_100hz.csv", None)
 TRUTH = (1e-3, 1.5e-3, 3.2e-4)
 for seed in (1, 2, 3):
-    p = os.path.join(work, f"sim_{seed}.csv")
-    if not os.path.exists(p):
-        run("cargo", "run", "-q", "--release", "-p", "clino", "--example", "allan_sim", "--",
-            p, "10", "20000", *map(str, TRUTH), str(seed))
+    args = ["100", "20000", *map(str, TRUTH), str(seed)]
+    p = os.path.join(work, "sim_" + "_".join(args) + ".csv")
+    if not os.path.exists(p):  # the name holds every parameter
+        run("cargo", "run", "-q", "--release", "-p", "clino", "--example", "allan_sim", "--", p, *args)
     records.append((f"simulated, seed {seed}", p, TRUTH))
 
 

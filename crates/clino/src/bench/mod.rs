@@ -14,7 +14,7 @@
 //! * [`allan`] — overlapping Allan deviation, IEEE Std 952 readings and fitted noise terms with honest bounds;
 //! * [`filters`] — the filter chosen by name for every run;
 //! * [`plots`] — SVG/PNG plots of the results;
-//! * [`recording`] — lab recordings (CSV) for `analyze`, `static` and `allan`.
+//! * [`recording`] — lab recordings (CSV) for `analyze`.
 //!
 //! ```
 //! use clino::bench::conical::{ConicalConfig, run_conical};

@@ -6,7 +6,8 @@
 //! rate (drift / duration), are reported. Here the drift is the change of
 //! the least-squares line through the tilt over the analysed span (robust to
 //! noise, unlike last − first), the drift rate its slope, and the noise the
-//! standard deviation about that line.
+//! standard deviation about that line. A recording reaches it through
+//! [`super::static_record`], the rules `clino allan` applies too.
 
 use super::filters::{filter_factory, run_filter};
 use crate::sim::ImuModel;

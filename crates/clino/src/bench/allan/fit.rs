@@ -16,7 +16,7 @@
 //!   distribution under the model (mean tr(T), variance 2·tr(T²), T = W^½·P·Σ·Pᵀ·W^½,
 //!   P = I − A·L; Satterthwaite). When Q exceeds its 99th percentile the model
 //!   does not describe the curve within its scatter and every interval is
-//!   widened by √(Q/E[Q]) (a Birge ratio), reported as `inflation`.
+//!   widened by √(Q/E(Q)) (a Birge ratio), reported as `inflation`.
 
 use super::model::{
     NoiseModel, TERM_NAMES, Z99, avar_cov, avar_cov_matrix, basis, chi2_factors, chi2_quantile,

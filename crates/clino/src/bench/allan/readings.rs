@@ -156,37 +156,23 @@ fn runs(k: usize, ok: impl Fn(usize) -> bool) -> Vec<std::ops::Range<usize>> {
 }
 
 /// The white-noise (−½) region: the run of at least three points with slope
-/// within [`SLOPE_TOL`] of −½ holding the most degrees of freedom, less its
-/// leading points while they lie significantly (99 %) below the −½ line
-/// through the rest (internal filtering correlates consecutive samples).
+/// in [−½ − [`SLOPE_TOL`], −½ + `SLOPE_TOL`/2] holding the most degrees of
+/// freedom. (Where internal filtering correlates consecutive samples the
+/// curve is flatter than −½ and below the line: those points are not in it.)
 pub(super) fn white_region(
     pts: &[AllanPoint],
     slopes: &[(f64, f64)],
 ) -> Option<std::ops::Range<usize>> {
-    let mut best = runs(pts.len(), |i| {
+    runs(pts.len(), |i| {
         let s = slopes[i].0;
-        s >= -0.5 - SLOPE_TOL && s <= -0.5 + SLOPE_TOL / 2.0
+        (-0.5 - SLOPE_TOL..=-0.5 + SLOPE_TOL / 2.0).contains(&s)
     })
     .into_iter()
     .filter(|r| r.len() >= 3)
     .max_by(|a, b| {
         let e = |r: &std::ops::Range<usize>| r.clone().map(|j| pts[j].edf).sum::<f64>();
         e(a).total_cmp(&e(b))
-    })?;
-    while best.len() > 3 {
-        let rest = best.start + 1..best.end;
-        let c2: f64 = rest
-            .clone()
-            .map(|j| pts[j].edf * pts[j].adev.powi(2) * pts[j].tau_s)
-            .sum::<f64>()
-            / rest.clone().map(|j| pts[j].edf).sum::<f64>();
-        if below_line(&pts[best.start], c2, -0.5) {
-            best = rest;
-        } else {
-            break;
-        }
-    }
-    Some(best)
+    })
 }
 
 /// True when the point lies below the line σ² = c²·τ^{2β} by more than its 99 % interval.
@@ -219,7 +205,7 @@ pub(super) fn read_k(pts: &[AllanPoint], slopes: &[(f64, f64)], cov: &[Vec<f64>]
     let k = pts.len();
     let cand = runs(k, |i| {
         let (s, se) = slopes[i];
-        s >= 0.5 - SLOPE_TOL && s <= 0.5 + SLOPE_TOL.max(Z99 * se)
+        (0.5 - SLOPE_TOL..=0.5 + SLOPE_TOL.max(Z99 * se)).contains(&s)
     });
     let last = slopes.iter().rev().find(|s| s.0.is_finite());
     let mut best: Option<(std::ops::Range<usize>, f64, f64)> = None;
