@@ -17,11 +17,10 @@
 //!   two records.)
 //! * The sample rate is that of the kept segment: (samples − 1)/span.
 
-use crate::io::{AccelUnit, GyroUnit, ImuCsvReader, ReadOptions};
+use crate::io::{ImuCsvReader, ReadOptions};
 use crate::{Error, ErrorKind, Result};
 use clino_core::ImuSample;
 use serde::Serialize;
-use std::io::BufRead;
 use std::path::{Path, PathBuf};
 
 /// What to do with a gap in the time stamps.
@@ -117,39 +116,10 @@ impl StaticRecord {
 }
 
 /// Units of the gyro and accelerometer columns, from the header line of `path`.
-fn sniff_units<R: BufRead>(src: R) -> (GyroUnit, AccelUnit) {
-    for line in src.lines().map_while(|l| l.ok()) {
-        let t = line.trim();
-        if t.is_empty() || t.starts_with('#') {
-            continue;
-        }
-        let names: Vec<String> = t
-            .split(',')
-            .map(|s| s.trim().trim_matches('"').to_ascii_lowercase())
-            .collect();
-        let has = |n: &str| names.iter().any(|h| h == n);
-        let g = if !has("gyr_x_rad_s") && has("gyr_x_deg_s") {
-            GyroUnit::DegPerS
-        } else {
-            GyroUnit::RadPerS
-        };
-        let a = if !has("acc_x_m_s2") && has("acc_x_g") {
-            AccelUnit::G
-        } else {
-            AccelUnit::MPerS2
-        };
-        return (g, a);
-    }
-    (GyroUnit::RadPerS, AccelUnit::MPerS2)
-}
-
 /// Read `path` under the rules of the module.
 pub fn read_static_record(path: &Path, policy: GapPolicy) -> Result<StaticRecord> {
-    let f = std::fs::File::open(path).map_err(|e| Error::from(e).in_file(path))?;
-    let (gyro_unit, accel_unit) = sniff_units(std::io::BufReader::new(f));
+    // the units come from the column names (the reader's rule)
     let opts = ReadOptions {
-        gyro_unit,
-        accel_unit,
         imu_only: true,
         ..ReadOptions::default()
     };
@@ -163,10 +133,7 @@ pub fn static_record_from_bytes(
     name: &Path,
     policy: GapPolicy,
 ) -> Result<StaticRecord> {
-    let (gyro_unit, accel_unit) = sniff_units(text);
     let opts = ReadOptions {
-        gyro_unit,
-        accel_unit,
         imu_only: true,
         ..ReadOptions::default()
     };

@@ -147,6 +147,9 @@ struct Columns {
     t: Option<usize>,
     gyr: [usize; 3],
     acc: [usize; 3],
+    /// the units of the columns found (the flag's, or the one the names say)
+    gyro_unit: GyroUnit,
+    accel_unit: AccelUnit,
     mag: Option<[usize; 3]>,
     temp: Option<usize>,
     ref_q: Option<[usize; 4]>,
@@ -222,6 +225,8 @@ impl<R: Read> ImuCsvReader<R> {
                 t: None,
                 gyr: [0; 3],
                 acc: [0; 3],
+                gyro_unit: opts.gyro_unit,
+                accel_unit: opts.accel_unit,
                 mag: None,
                 temp: None,
                 ref_q: None,
@@ -237,6 +242,11 @@ impl<R: Read> ImuCsvReader<R> {
             failed: false,
         };
         me.cols = me.find_columns(opts)?;
+        me.gyr_scale = me.cols.gyro_unit.to_rad_s();
+        me.acc_scale = match me.cols.accel_unit {
+            AccelUnit::MPerS2 => 1.0,
+            AccelUnit::G => opts.g,
+        };
         Ok(me)
     }
 
@@ -317,25 +327,38 @@ impl<R: Read> ImuCsvReader<R> {
         }
         // one triad's columns: `{prefix}_{axis}_{unit}` or bare `{prefix}_{axis}`; when
         // missing, say whether the file has the other unit's column
-        let triad = |prefix: &str, unit: &str, other: &str, what: &str| -> Result<[usize; 3]> {
-            let mut cols = [0; 3];
-            for (k, axis) in ["x", "y", "z"].iter().enumerate() {
-                let want = format!("{prefix}_{axis}_{unit}");
-                let bare = format!("{prefix}_{axis}");
-                cols[k] = match self.find(&[&want, &bare]) {
-                    Some(i) => i,
-                    None => {
-                        let alt = format!("{prefix}_{axis}_{other}");
-                        let hint = if self.find(&[&alt]).is_some() {
-                            format!("the file has '{alt}': set the {what} unit to match it")
-                        } else {
-                            format!("or '{bare}'")
-                        };
-                        return Err(missing(&want, hint));
-                    }
-                };
+        // one triad's columns: `{prefix}_{axis}_{unit}` or bare `{prefix}_{axis}` in
+        // the flag's unit; else `{prefix}_{axis}_{other}` in the other unit (the
+        // column name says it). Returns the columns and whether the other unit is used.
+        let triad = |prefix: &str, unit: &str, other: &str| -> Result<([usize; 3], bool)> {
+            let find3 = |names: &dyn Fn(&str) -> Vec<String>| -> Option<[usize; 3]> {
+                let mut cols = [0; 3];
+                for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+                    let n = names(axis);
+                    let refs: Vec<&str> = n.iter().map(String::as_str).collect();
+                    cols[k] = self.find(&refs)?;
+                }
+                Some(cols)
+            };
+            if let Some(c) =
+                find3(&|a| vec![format!("{prefix}_{a}_{unit}"), format!("{prefix}_{a}")])
+            {
+                return Ok((c, false));
             }
-            Ok(cols)
+            if let Some(c) = find3(&|a| vec![format!("{prefix}_{a}_{other}")]) {
+                return Ok((c, true));
+            }
+            let axis = ["x", "y", "z"]
+                .into_iter()
+                .find(|a| {
+                    self.find(&[&format!("{prefix}_{a}_{unit}"), &format!("{prefix}_{a}")])
+                        .is_none()
+                })
+                .unwrap_or("x");
+            Err(missing(
+                &format!("{prefix}_{axis}_{unit}"),
+                format!("or '{prefix}_{axis}_{other}', or bare '{prefix}_{axis}'"),
+            ))
         };
         let other_gyro = match opts.gyro_unit {
             GyroUnit::RadPerS => GyroUnit::DegPerS,
@@ -345,13 +368,14 @@ impl<R: Read> ImuCsvReader<R> {
             AccelUnit::MPerS2 => AccelUnit::G,
             AccelUnit::G => AccelUnit::MPerS2,
         };
-        let gyr = triad("gyr", opts.gyro_unit.suffix(), other_gyro.suffix(), "gyro")?;
-        let acc = triad(
-            "acc",
-            opts.accel_unit.suffix(),
-            other_accel.suffix(),
-            "accelerometer",
-        )?;
+        let (gyr, g_other) = triad("gyr", opts.gyro_unit.suffix(), other_gyro.suffix())?;
+        let (acc, a_other) = triad("acc", opts.accel_unit.suffix(), other_accel.suffix())?;
+        let gyro_unit = if g_other { other_gyro } else { opts.gyro_unit };
+        let accel_unit = if a_other {
+            other_accel
+        } else {
+            opts.accel_unit
+        };
         let mag = match (
             self.find(&["mag_x_uT"]),
             self.find(&["mag_y_uT"]),
@@ -386,6 +410,8 @@ impl<R: Read> ImuCsvReader<R> {
                 t,
                 gyr,
                 acc,
+                gyro_unit,
+                accel_unit,
                 mag: None,
                 temp: None,
                 ref_q: None,
@@ -396,6 +422,8 @@ impl<R: Read> ImuCsvReader<R> {
             t,
             gyr,
             acc,
+            gyro_unit,
+            accel_unit,
             mag,
             temp: self.find(&["temp_c"]),
             ref_q,
