@@ -92,14 +92,30 @@ fn units_deg_s_and_g_are_converted() {
 }
 
 #[test]
-fn unit_mismatch_names_the_column_and_hints() {
+fn the_column_name_says_the_unit_and_the_flag_names_bare_columns() {
+    // suffixed columns are read in their own unit whatever the flag
     let opts = ReadOptions {
         gyro_unit: GyroUnit::DegPerS,
         ..ReadOptions::default()
     };
-    let e = read_all(&format!("{HEAD}0,0,0,0,0,0,9.8\n"), &opts).unwrap_err();
-    assert_at(&e, ErrorKind::MissingColumn, 1, Some("gyr_x_deg_s"));
-    assert!(e.message.contains("gyr_x_rad_s"), "{e}");
+    let rows = read_all(&format!("{HEAD}0,0.5,0,0,0,0,9.8\n"), &opts).unwrap();
+    assert_eq!(rows[0].sample.gyr_rad_s.x, 0.5);
+    let deg = "t_s,gyr_x_deg_s,gyr_y_deg_s,gyr_z_deg_s,acc_x_g,acc_y_g,acc_z_g\n0,90,0,0,0,0,1\n";
+    let rows = read_all(deg, &ReadOptions::default()).unwrap();
+    assert!((rows[0].sample.gyr_rad_s.x - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    assert_eq!(rows[0].sample.acc_m_s2.z, clino::core::G0);
+    // bare names take the flag's unit
+    let bare = "t_s,gyr_x,gyr_y,gyr_z,acc_x,acc_y,acc_z\n0,180,0,0,0,0,9.8\n";
+    let rows = read_all(bare, &opts).unwrap();
+    assert!((rows[0].sample.gyr_rad_s.x - std::f64::consts::PI).abs() < 1e-15);
+    // neither: an error naming the column and the other spellings
+    let e = read_all(
+        "t_s,gyr_x_rad_s,gyr_y_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,0,0,9.8\n",
+        &opts,
+    )
+    .unwrap_err();
+    assert_at(&e, ErrorKind::MissingColumn, 1, Some("gyr_z_deg_s"));
+    assert!(e.message.contains("gyr_z_rad_s"), "{e}");
 }
 
 #[test]

@@ -351,8 +351,12 @@ impl<R: Read> ImuCsvReader<R> {
             let axis = ["x", "y", "z"]
                 .into_iter()
                 .find(|a| {
-                    self.find(&[&format!("{prefix}_{a}_{unit}"), &format!("{prefix}_{a}")])
-                        .is_none()
+                    self.find(&[
+                        &format!("{prefix}_{a}_{unit}"),
+                        &format!("{prefix}_{a}"),
+                        &format!("{prefix}_{a}_{other}"),
+                    ])
+                    .is_none()
                 })
                 .unwrap_or("x");
             Err(missing(
