@@ -394,13 +394,14 @@ fn not_excited(
 /// of the residual by [`MIN_REFERENCE_SNR`].
 fn excited(fit: &super::sinefit::SineFit, min: f64, unit: &str, scale: f64) -> Result<(), String> {
     let snr = fit.amplitude / std::f64::consts::SQRT_2 / fit.rms_residual.max(f64::MIN_POSITIVE);
-    if !(fit.amplitude * scale >= min) {
+    // NaN-safe: a NaN amplitude or ratio fails both checks
+    if fit.amplitude.is_nan() || fit.amplitude * scale < min {
         Err(format!(
             "fitted amplitude {:.3e} {unit} at {:.4} Hz is below {min} {unit}",
             fit.amplitude * scale,
             fit.freq_hz
         ))
-    } else if !(snr >= MIN_REFERENCE_SNR) {
+    } else if snr.is_nan() || snr < MIN_REFERENCE_SNR {
         Err(format!(
             "the sine fitted at {:.4} Hz ({:.3e} {unit}) does not stand out of the residual (signal-to-residual RMS ratio {snr:.2}, below {MIN_REFERENCE_SNR})",
             fit.freq_hz,
@@ -461,13 +462,7 @@ pub fn analyze(
                 .map(|&i| QuatTilt::from_attitude(&reference[i].attitude).y)
                 .collect();
             let fx = fit4(&t, &qx, freq_hz, 1).map_err(|e| {
-                not_excited(
-                    table,
-                    excitation,
-                    &reference,
-                    &keep,
-                    format!("{}", e.message),
-                )
+                not_excited(table, excitation, &reference, &keep, e.message.to_string())
             })?;
             let f = freq_hz.unwrap_or(fx.freq_hz);
             let fy = super::sinefit::fit3(&t, &qy, f, 1)?;
@@ -495,13 +490,7 @@ pub fn analyze(
         Excitation::Orbit => {
             let px: Vec<f64> = keep.iter().map(|&i| reference[i].pos_m.x).collect();
             let fx = fit4(&t, &px, freq_hz, 1).map_err(|e| {
-                not_excited(
-                    table,
-                    excitation,
-                    &reference,
-                    &keep,
-                    format!("{}", e.message),
-                )
+                not_excited(table, excitation, &reference, &keep, e.message.to_string())
             })?;
             excited(&fx, MIN_ORBIT_AMPLITUDE_MM, "mm on x", 1e3)
                 .map_err(|why| not_excited(table, excitation, &reference, &keep, why))?;
