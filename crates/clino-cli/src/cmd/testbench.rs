@@ -1,6 +1,5 @@
 //! `clino testbench conical|orbit|static|analyze`: the dynamic test bench.
 
-use anyhow::Context;
 use clino::bench::conical::{ConicalConfig, PlatformSpec, run_conical};
 use clino::bench::orbit::{OrbitConfig, run_orbit};
 use clino::bench::recording::{Excitation, Table, analyze};
@@ -33,6 +32,54 @@ enum Cmd {
     Record(RecordArgs),
 }
 
+/// The simulated Stewart platform (conical and orbit tests).
+#[derive(clap::Args)]
+struct PlatformArgs {
+    /// Carry the sensor on a simulated servo-driven Stewart platform (typical geometry): the
+    /// sensor rides the actual motion of the servo legs, and the reference (cone angle, orbit
+    /// amplitude, the platform's own tilt) comes from the actual legs by forward kinematics.
+    #[arg(long)]
+    platform: bool,
+    /// Natural frequency of the platform's servo legs, Hz (needs --platform).
+    #[arg(long, default_value_t = ServoLegs::default().natural_hz, requires = "platform")]
+    servo_hz: f64,
+    /// Damping ratio of the servo legs (needs --platform).
+    #[arg(long, default_value_t = ServoLegs::default().damping, requires = "platform")]
+    servo_damping: f64,
+}
+
+impl PlatformArgs {
+    fn spec(&self) -> Option<PlatformSpec> {
+        self.platform.then(|| PlatformSpec {
+            geometry: Geometry::typical(),
+            servo: ServoLegs {
+                natural_hz: self.servo_hz,
+                damping: self.servo_damping,
+            },
+        })
+    }
+}
+
+/// The servo legs of the platform a lab recording is simulated on.
+#[derive(clap::Args)]
+struct ServoArgs {
+    /// Natural frequency of the platform's servo legs, Hz.
+    #[arg(long, default_value_t = ServoLegs::default().natural_hz)]
+    servo_hz: f64,
+    /// Damping ratio of the servo legs.
+    #[arg(long, default_value_t = ServoLegs::default().damping)]
+    servo_damping: f64,
+}
+
+impl ServoArgs {
+    fn legs(&self) -> ServoLegs {
+        ServoLegs {
+            natural_hz: self.servo_hz,
+            damping: self.servo_damping,
+        }
+    }
+}
+
 #[derive(clap::Args)]
 struct RecordArgs {
     /// Output CSV file.
@@ -52,8 +99,23 @@ struct RecordArgs {
     /// Duration, s.
     #[arg(long, default_value_t = 30.0)]
     duration_s: f64,
+    /// Sensor preset: ideal, mpu6050, mpu6050-raw.
+    #[arg(long, default_value = "mpu6050")]
+    sensor: String,
+    /// Override the sensor bandwidth with a first-order low-pass at this cut-off, Hz.
+    #[arg(long)]
+    bandwidth_hz: Option<f64>,
+    /// Attitude filter giving the recorded inclinometer quaternion.
+    #[arg(long, default_value = clino::bench::filters::BEST_FILTER)]
+    filter: String,
+    /// Sample rate, Hz.
+    #[arg(long, default_value_t = 200.0)]
+    rate_hz: f64,
+    /// Random seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     #[command(flatten)]
-    common: Common,
+    servo: ServoArgs,
 }
 
 fn excitation(name: &str) -> anyhow::Result<Excitation> {
@@ -81,16 +143,6 @@ struct Common {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Carry the sensor on a simulated servo-driven Stewart platform (typical geometry);
-    /// the cone's reference angle then comes from the actual pose.
-    #[arg(long)]
-    platform: bool,
-    /// Natural frequency of the platform's servo legs, Hz (with --platform).
-    #[arg(long, default_value_t = 20.0)]
-    servo_hz: f64,
-    /// Damping ratio of the servo legs (with --platform).
-    #[arg(long, default_value_t = 0.7)]
-    servo_damping: f64,
     /// Print JSON to stdout.
     #[arg(long)]
     json: bool,
@@ -99,23 +151,17 @@ struct Common {
     plot: Option<PathBuf>,
 }
 
-impl Common {
-    fn platform(&self) -> Option<PlatformSpec> {
-        self.platform.then(|| PlatformSpec {
-            geometry: Geometry::typical(),
-            servo: ServoLegs {
-                natural_hz: self.servo_hz,
-                damping: self.servo_damping,
-            },
-        })
-    }
+fn sensor(name: &str, bandwidth_hz: Option<f64>) -> anyhow::Result<ImuModel> {
+    let m = ImuModel::preset(name)?;
+    Ok(match bandwidth_hz {
+        Some(b) => m.with_bandwidth(b),
+        None => m,
+    })
+}
 
+impl Common {
     fn sensor(&self) -> anyhow::Result<ImuModel> {
-        let m = ImuModel::preset(&self.sensor)?;
-        Ok(match self.bandwidth_hz {
-            Some(b) => m.with_bandwidth(b),
-            None => m,
-        })
+        sensor(&self.sensor, self.bandwidth_hz)
     }
 }
 
@@ -135,6 +181,8 @@ struct ConicalArgs {
     #[arg(long, default_value = "z")]
     axis: String,
     #[command(flatten)]
+    platform: PlatformArgs,
+    #[command(flatten)]
     common: Common,
 }
 
@@ -150,6 +198,8 @@ struct OrbitArgs {
         default_value = "0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8"
     )]
     freq_hz: Vec<f64>,
+    #[command(flatten)]
+    platform: PlatformArgs,
     #[command(flatten)]
     common: Common,
 }
@@ -213,7 +263,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
             cfg.rate_hz = c.common.rate_hz;
             cfg.seed = c.common.seed;
-            cfg.platform = c.common.platform();
+            cfg.platform = c.platform.spec();
             cfg.axis = match c.axis.as_str() {
                 "x" => ConeAxis::X,
                 "y" => ConeAxis::Y,
@@ -259,7 +309,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
             cfg.rate_hz = o.common.rate_hz;
             cfg.seed = o.common.seed;
-            cfg.platform = o.common.platform();
+            cfg.platform = o.platform.spec();
             let pb = progress(cfg.freqs_hz.len());
             let pts = run_orbit(&cfg, &mut |d, _| pb.set_position(d as u64))?;
             pb.finish_and_clear();
@@ -269,15 +319,32 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             if o.common.json {
                 println!("{}", serde_json::to_string_pretty(&pts)?);
             } else {
-                println!("freq_hz  roll_pp_deg pitch_pp_deg roll_fit_pp_deg pitch_fit_pp_deg");
-                for p in &pts {
+                println!(
+                    "# tilt error under the orbit, degrees: *_pp = max − min, *_fit_pp = 2 × sine fitted at the orbit frequency"
+                );
+                if cfg.platform.is_some() {
                     println!(
-                        "{:7.3}  {:11.4} {:12.4} {:15.4} {:16.4}",
+                        "# on the simulated platform: orbit_*_mm = amplitude actually made, ref_*_pp_deg = the platform's own tilt (from forward kinematics of the legs)"
+                    );
+                }
+                println!(
+                    "freq_hz  roll_pp_deg pitch_pp_deg roll_fit_pp_deg pitch_fit_pp_deg  orbit_x_mm orbit_y_mm orbit_z_mm  ref_roll_pp_deg ref_pitch_pp_deg"
+                );
+                for p in &pts {
+                    let [ax, ay, az] = p.orbit_amplitude_mm.unwrap_or([f64::NAN; 3]);
+                    let [rr, rp] = p.reference_tilt_pp_deg.unwrap_or([f64::NAN; 2]);
+                    println!(
+                        "{:7.3}  {:11.4} {:12.4} {:15.4} {:16.4}  {:10.3} {:10.3} {:10.3}  {:15.2e} {:16.2e}",
                         p.freq_hz,
                         p.roll_pp_deg,
                         p.pitch_pp_deg,
                         p.roll_fit_pp_deg,
-                        p.pitch_fit_pp_deg
+                        p.pitch_fit_pp_deg,
+                        ax,
+                        ay,
+                        az,
+                        rr,
+                        rp
                     );
                 }
             }
@@ -327,8 +394,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Cmd::Analyze(a) => {
             let exc = excitation(&a.excitation)?;
             let t = Table::read(&a.recording)?;
-            let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s)
-                .with_context(|| format!("analysing {}", a.recording.display()))?;
+            let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s).map_err(|e| {
+                if e.file.is_none() {
+                    e.in_file(&a.recording)
+                } else {
+                    e
+                }
+            })?;
             if a.json {
                 println!("{}", serde_json::to_string_pretty(&r)?);
             } else {
@@ -376,15 +448,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 exc,
                 amp,
                 r.freq_hz,
-                &ServoLegs {
-                    natural_hz: r.common.servo_hz,
-                    damping: r.common.servo_damping,
-                },
-                &r.common.sensor()?,
-                &r.common.filter,
-                r.common.rate_hz,
+                &r.servo.legs(),
+                &sensor(&r.sensor, r.bandwidth_hz)?,
+                &r.filter,
+                r.rate_hz,
                 r.duration_s,
-                r.common.seed,
+                r.seed,
             )?;
             eprintln!("wrote {}", r.out.display());
         }

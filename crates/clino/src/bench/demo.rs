@@ -43,7 +43,8 @@ pub fn demo_summary() -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "Dynamic test bench (simulated Stewart platform, {rate} Hz, mpu6050 preset)"
+        "Dynamic test bench (simulated, {rate} Hz, mpu6050 preset; the sensor rides the commanded motion \
+         — `clino testbench … --platform` puts it on the servo-driven Stewart platform)"
     );
     let _ = writeln!(
         s,
@@ -63,7 +64,7 @@ pub fn demo_summary() -> Result<String> {
     }
     let _ = writeln!(
         s,
-        "  cross-coupling, 20 mm orbits (roll; p-p and fitted p-p, degrees):"
+        "  cross-coupling, 20 mm orbits (roll error, degrees; pp = max − min, fit = 2 × fitted amplitude):"
     );
     let _ = writeln!(
         s,

@@ -16,7 +16,7 @@
 //! column. Nothing is dropped silently.
 
 use super::conical::{Channels, ConicalPoint, analyze_conical};
-use super::orbit::{OrbitPoint, cross_coupling_of_attitudes};
+use super::orbit::{OrbitPoint, cross_coupling_against};
 use super::sinefit::fit4;
 use crate::io::TableReader;
 use crate::sim::platform::PlatformMotion;
@@ -279,6 +279,98 @@ pub enum Excitation {
     Orbit,
 }
 
+/// Smallest cone angle [`analyze`] accepts as a conical excitation, degrees:
+/// ten times the parasitic orientation the source's platform shows under an
+/// orbit (< 0.005°, its figure 10b).
+pub const MIN_CONE_ANGLE_DEG: f64 = 0.05;
+/// Smallest orbit amplitude [`analyze`] accepts as an orbit excitation, mm:
+/// about ten times the parasitic position the source's platform shows under
+/// a cone (< 0.017 mm, its figure 7a).
+pub const MIN_ORBIT_AMPLITUDE_MM: f64 = 0.2;
+/// Largest tilt of the platform (half its peak-to-peak, degrees) [`analyze`]
+/// accepts under an orbit excitation, a pure translation: twenty times the
+/// source's parasitic orientation (< 0.005°). A record that tilts more is a
+/// cone or another rotation, whatever its position does.
+pub const MAX_ORBIT_TILT_DEG: f64 = 0.1;
+/// Smallest ratio of the fitted sine's RMS (A/√2) to the residual's RMS for
+/// the reference to count as excited at the fitted frequency.
+pub const MIN_REFERENCE_SNR: f64 = 2.0;
+
+/// Half the peak-to-peak, the crudest amplitude (for the hint in errors).
+fn half_range(v: impl Iterator<Item = f64>) -> f64 {
+    let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    if hi >= lo { 0.5 * (hi - lo) } else { 0.0 }
+}
+
+/// How much the reference moves over the rows `keep`: half the peak-to-peak
+/// of the position (largest axis, mm) and of the tilt (largest of the cone
+/// angles read from the quaternion x and y components, degrees).
+fn reference_motion(reference: &[Pose], keep: &[usize]) -> (f64, f64) {
+    let pos_mm = 1e3
+        * (0..3)
+            .map(|k| half_range(keep.iter().map(|&i| reference[i].pos_m[k])))
+            .fold(0.0, f64::max);
+    let tilt_deg = [0usize, 1]
+        .iter()
+        .map(|&k| {
+            let h = half_range(keep.iter().map(|&i| {
+                let q = QuatTilt::from_attitude(&reference[i].attitude);
+                if k == 0 { q.x } else { q.y }
+            }));
+            2.0 * h.min(1.0).asin().to_degrees()
+        })
+        .fold(0.0, f64::max);
+    (pos_mm, tilt_deg)
+}
+
+/// The error for a record whose reference does not show `excitation`, with
+/// what the reference does show.
+fn not_excited(
+    table: &Table,
+    excitation: Excitation,
+    reference: &[Pose],
+    keep: &[usize],
+    why: String,
+) -> Error {
+    let (pos_mm, tilt_deg) = reference_motion(reference, keep);
+    let (name, other) = match excitation {
+        Excitation::Conical => ("conical", "orbit"),
+        Excitation::Orbit => ("orbit", "conical"),
+    };
+    Error::new(
+        ErrorKind::InvalidInput,
+        format!(
+            "the reference shows no {name} excitation: {why}; over the analysed rows it moves by ±{pos_mm:.3} mm in position and ±{tilt_deg:.3}° in tilt (half the peak-to-peak) — is --excitation {other} meant?"
+        ),
+    )
+    .in_file(&table.path)
+}
+
+/// Check that a four-parameter fit of the reference found a real excitation:
+/// an amplitude above `min` (in the fit's units) and a sine that stands out
+/// of the residual by [`MIN_REFERENCE_SNR`].
+fn excited(fit: &super::sinefit::SineFit, min: f64, unit: &str, scale: f64) -> Result<(), String> {
+    let snr = fit.amplitude / std::f64::consts::SQRT_2 / fit.rms_residual.max(f64::MIN_POSITIVE);
+    // NaN-safe: a NaN amplitude or ratio fails both checks
+    if fit.amplitude.is_nan() || fit.amplitude * scale < min {
+        Err(format!(
+            "fitted amplitude {:.3e} {unit} at {:.4} Hz is below {min} {unit}",
+            fit.amplitude * scale,
+            fit.freq_hz
+        ))
+    } else if snr.is_nan() || snr < MIN_REFERENCE_SNR {
+        Err(format!(
+            "the sine fitted at {:.4} Hz ({:.3e} {unit}) does not stand out of the residual (signal-to-residual RMS ratio {snr:.2}, below {MIN_REFERENCE_SNR})",
+            fit.freq_hz,
+            fit.amplitude * scale
+        ))
+    } else {
+        Ok(())
+    }
+}
+
 /// Result of analysing a lab recording.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Analysis {
@@ -328,11 +420,23 @@ pub fn analyze(
                 .iter()
                 .map(|&i| QuatTilt::from_attitude(&reference[i].attitude).y)
                 .collect();
-            let fx = fit4(&t, &qx, freq_hz, 1).map_err(|e| e.in_file(&table.path))?;
+            let fx = fit4(&t, &qx, freq_hz, 1).map_err(|e| {
+                not_excited(table, excitation, &reference, &keep, e.message.to_string())
+            })?;
             let f = freq_hz.unwrap_or(fx.freq_hz);
             let fy = super::sinefit::fit3(&t, &qy, f, 1)?;
             let half = 0.5 * (fx.amplitude + fy.amplitude);
             let alpha = 2.0 * half.min(1.0).asin();
+            // quaternion x amplitude sin(α/2) ≈ α/2: scale to degrees of cone angle
+            for fit in [&fx, &fy] {
+                excited(
+                    fit,
+                    MIN_CONE_ANGLE_DEG,
+                    "° of cone angle",
+                    2f64.to_degrees(),
+                )
+                .map_err(|why| not_excited(table, excitation, &reference, &keep, why))?;
+            }
             let point = analyze_conical(&ch, alpha, f, G0).map_err(|e| e.in_file(&table.path))?;
             Ok(Analysis {
                 freq_hz: f,
@@ -344,14 +448,31 @@ pub fn analyze(
         }
         Excitation::Orbit => {
             let px: Vec<f64> = keep.iter().map(|&i| reference[i].pos_m.x).collect();
-            let fx = fit4(&t, &px, freq_hz, 1).map_err(|e| e.in_file(&table.path))?;
+            let fx = fit4(&t, &px, freq_hz, 1).map_err(|e| {
+                not_excited(table, excitation, &reference, &keep, e.message.to_string())
+            })?;
+            excited(&fx, MIN_ORBIT_AMPLITUDE_MM, "mm on x", 1e3)
+                .map_err(|why| not_excited(table, excitation, &reference, &keep, why))?;
+            let (_, tilt) = reference_motion(&reference, &keep);
+            if tilt > MAX_ORBIT_TILT_DEG {
+                return Err(not_excited(
+                    table,
+                    excitation,
+                    &reference,
+                    &keep,
+                    format!(
+                        "the platform tilts by ±{tilt:.3}°, more than the ±{MAX_ORBIT_TILT_DEG}° an orbit (a pure translation) allows"
+                    ),
+                ));
+            }
             let f = freq_hz.unwrap_or(fx.freq_hz);
             let att = ch.attitude.as_ref().ok_or_else(|| {
                 Error::new(ErrorKind::MissingColumn, "an inclinometer attitude is required (q_*, phi_deg/theta_deg or roll_deg/pitch_deg)")
                     .in_file(&table.path)
                     .at_column("roll_deg")
             })?;
-            let point = cross_coupling_of_attitudes(&ch.t_s, att, f)?;
+            let refs: Vec<Pose> = keep.iter().map(|&i| reference[i]).collect();
+            let point = cross_coupling_against(&ch.t_s, att, &refs, f)?;
             Ok(Analysis {
                 freq_hz: f,
                 reference_amplitude: fx.amplitude * 1e3,
@@ -538,6 +659,13 @@ mod tests {
             assert!(v.abs() < 0.05, "{c:?}");
         }
         assert!(a.fk_max_iterations.unwrap() <= 4);
+        // the cone read as an orbit: refused (it used to give amplitude 0 and numbers)
+        let e = analyze(&table, Excitation::Orbit, &g, None, 3.0).unwrap_err();
+        assert_eq!(e.kind, ErrorKind::InvalidInput);
+        assert!(
+            e.message.contains("no orbit excitation") && e.message.contains("conical"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 
@@ -570,6 +698,19 @@ mod tests {
         assert!(
             (o.roll_fit_pp_deg / expect - 1.0).abs() < 0.05,
             "{o:?} {expect}"
+        );
+        // the reference from the encoders: the orbit made, the platform's tiny tilt
+        let made = o.orbit_amplitude_mm.unwrap();
+        assert!(made.iter().all(|a| (a - 20.0).abs() < 0.1), "{o:?}");
+        assert!(
+            o.reference_tilt_pp_deg.unwrap().iter().all(|t| *t < 0.01),
+            "{o:?}"
+        );
+        // the orbit read as a cone: refused (it used to print +127 dB)
+        let e = analyze(&t, Excitation::Conical, &Geometry::typical(), None, 6.0).unwrap_err();
+        assert!(
+            e.message.contains("no conical excitation") && e.message.contains("orbit"),
+            "{e}"
         );
         std::fs::remove_dir_all(&dir).ok();
     }

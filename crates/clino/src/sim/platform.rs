@@ -173,8 +173,26 @@ impl PlatformMotion {
         let tc = t_s.clamp(0.0, self.end_s());
         let k = ((tc / H).round() as usize).min(self.poses.len() - 1);
         let (l, _, _) = self.legs(tc);
-        // the grid pose is at most half a step away: Newton converges from it; if
-        // it ever did not, the grid pose itself is the best available answer
+        // the grid pose (solved and checked by the full forward kinematics at
+        // construction) is at most half a step away: plain Newton steps with
+        // the analytic Jacobian converge from it quadratically; the full solver
+        // (with its conditioning checks) only if they did not
+        let target = SVector::<f64, 6>::from_column_slice(&l);
+        let mut pose = self.poses[k];
+        for _ in 0..4 {
+            let r =
+                target - SVector::<f64, 6>::from_column_slice(&self.geometry.leg_lengths(&pose));
+            if r.amax() < 1e-13 {
+                return pose;
+            }
+            let Some(dx) = self.geometry.jacobian(&pose).lu().solve(&r) else {
+                break;
+            };
+            pose.pos_m += Vec3::new(dx[0], dx[1], dx[2]);
+            pose.attitude = clino_core::Attitude::from_scaled_axis(Vec3::new(dx[3], dx[4], dx[5]))
+                * pose.attitude;
+        }
+        // if it ever did not converge, the grid pose itself is the best available answer
         self.geometry
             .forward(&l, &self.poses[k])
             .map_or(self.poses[k], |f| f.pose)

@@ -1,6 +1,6 @@
 //! Throughput of the attitude filters' update and of the CSV → CSV fusion run.
 //!
-//! `cargo bench -p clino --bench fusion`
+//! `cargo bench -p clino-bench --bench fusion`
 //!
 //! * `update/*`: one filter update per element (M samples/s = elements/s),
 //!   on the samples of a BROAD trial; ours (clino's `dynamic` with and without
@@ -18,7 +18,7 @@ use clino::fusion::{FilterConfig, FilterKind, FuseOptions, fuse};
 use clino::io::{ImuCsvReader, ReadOptions};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-mod common;
+use clino_bench as common;
 
 fn samples(text: &str) -> Vec<(Vec3, Vec3)> {
     ImuCsvReader::new(text.as_bytes(), "bench.csv", &ReadOptions::default())

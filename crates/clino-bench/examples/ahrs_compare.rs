@@ -1,7 +1,7 @@
 //! Accuracy of our Madgwick and Mahony against the `ahrs` crate's (0.8) at the
 //! same gains, on the BROAD trials, scored with the BROAD inclination error.
 //!
-//! `cargo run --release -p clino --example ahrs_compare [-- DIR] [--beta B --kp KP --ki KI]`
+//! `cargo run --release -p clino-bench --example ahrs_compare [-- DIR] [--beta B --kp KP --ki KI]`
 //!
 //! Both sides start from the same attitude (tilt from the first accelerometer
 //! sample, heading 0) and use the same fixed sample period. Differences left:
@@ -34,9 +34,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let beta = take("--beta", 0.1);
     let kp = take("--kp", 1.0);
     let ki = take("--ki", 0.02);
-    let dir = args.first().map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad")
-    });
+    let dir = args
+        .first()
+        .map(PathBuf::from)
+        .or_else(clino_bench::broad_dir)
+        .ok_or("no BROAD recordings: give their folder, or set CLINO_BROAD_DIR")?;
     let files = expand_paths(&[dir])?;
     println!("inclination RMSE, degrees; Madgwick beta = {beta}, Mahony kp = {kp}, ki = {ki}");
     println!(

@@ -5,7 +5,7 @@
 //! `scripts/vqf_baseline.py` on the same files.
 //!
 //! ```text
-//! cargo run --release -p clino --example vqf_compare -- ../shared/data/broad
+//! cargo run --release -p clino-bench --example vqf_compare -- ../shared/data/broad
 //! ```
 
 use clino::core::filter::Dynamic;

@@ -1,11 +1,24 @@
-//! Shared by the benches and the ahrs comparison: where the data is.
-#![allow(dead_code)]
+//! Benchmarks and baseline comparisons of clino, kept out of the test build.
+//!
+//! `cargo bench -p clino-bench --bench fusion` (criterion) and the examples
+//! `vqf_compare` (vqf-rs) and `ahrs_compare` (the ahrs crate) live here, not in
+//! `clino`, so that their dependencies — criterion, vqf-rs, ahrs, which also
+//! switch on other features of shared crates (nalgebra's `libm-force`, serde's
+//! `std`) — are not built by the test command (`cargo test --release` builds
+//! the workspace's default members, which leave this crate out) and the tests
+//! reuse the release build of the first set-up command as it is.
+//!
+//! This library holds what they share: where the data is.
 
 use std::path::PathBuf;
 
-/// `<workspace>/../shared/data/broad`, if present.
+/// The BROAD recordings: `$CLINO_BROAD_DIR`, else `<workspace>/../shared/data/broad`, if present.
 pub fn broad_dir() -> Option<PathBuf> {
-    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad");
+    let d = std::env::var_os("CLINO_BROAD_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/broad")
+        });
     d.is_dir().then_some(d)
 }
 
