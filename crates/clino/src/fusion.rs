@@ -1,11 +1,13 @@
-//! The fusion stage of the pipeline: a filter registry and a streaming
-//! CSV → CSV run.
+//! The fusion stage of the pipeline: the one filter specification and the
+//! streaming run of a recording.
 //!
-//! * [`FilterConfig`] names a filter and its gains and builds it
-//!   ([`FilterConfig::build`]) as a `Box<dyn AttitudeFilter>`;
-//! * [`Fuser`] feeds rows of a recording to one filter, keeping the time step
-//!   and handling sensor dropouts (NaN gyro or accelerometer values: the
-//!   filter keeps its state through them);
+//! * [`parse_spec`] and [`parse_spec_list`] read the `name:key=value,…` form
+//!   into a [`FilterSpec`] (every parameter of every filter, checked);
+//!   [`apply_params`] applies flags given apart; [`filter_help`] lists them all;
+//! * [`FilterConfig`] adds the stages around the filter (lever arm, offline
+//!   smoothing) and makes the [`Pipeline`] ([`FilterConfig::pipeline`]), the
+//!   only loop that runs a filter (its rules for time steps, dropouts and
+//!   initialisation are stated there);
 //! * [`fuse`] streams a recording through a filter and writes
 //!   `t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status`, one row per
 //!   input row, in constant memory.

@@ -10,7 +10,7 @@
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
 //! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
-//! * [`bench`] — dynamic and static test analysis (sine fits, sensitivities,
+//! * [`mod@bench`] — dynamic and static test analysis (sine fits, sensitivities,
 //!   cross-coupling, Allan deviation);
 //! * [`smooth`] — offline (forward–backward) tilt for whole recordings;
 //! * [`calib`] — estimating sensor calibrations (static poses, multi-position fits, calibration files);

@@ -7,7 +7,7 @@
 //! fixed-interval smoothing (Fraser & Potter, 1969): a forward and a backward
 //! run of the same filter, combined. Here:
 //!
-//! 1. a forward pass of [`Dynamic`] over the recording learns the gyro bias at
+//! 1. a forward pass of [`clino_core::filter::Dynamic`] over the recording learns the gyro bias at
 //!    the end;
 //! 2. a backward pass runs on the time-reversed recording (rates negated: the
 //!    reversed body turns the other way; sample k's interval is the one ending

@@ -1,10 +1,19 @@
 //! Recordings in and results out.
 //!
-//! * [`TableReader`] is the one CSV reader: its rules (comments, byte-order
-//!   mark, CRLF, names, cells, errors) hold for every recording clino reads;
-//! * [`ImuCsvReader`] streams an IMU recording from CSV, one [`ImuRow`] at a
-//!   time, in constant memory;
-//! * [`CsvLineWriter`] writes numeric CSV rows without allocating per row;
+//! * [`TableReader`] is the one table reader, CSV or Parquet (by the
+//!   `.parquet` extension); its rules hold for every recording clino reads:
+//!   a byte-order mark is dropped; `#` lines are comments, before the header
+//!   and between rows; blank lines are skipped; LF or CRLF; columns are found
+//!   by name (ASCII case ignored, spaces and quotes trimmed), others are never
+//!   parsed; every row has the header's number of fields; a numeric cell is a
+//!   number, `nan`/`inf`, or empty (NaN); every error names the file, the
+//!   1-based line (comments counted; a Parquet row's line is its number plus
+//!   one) and the column;
+//! * [`ImuCsvReader`] streams an IMU recording (CSV or Parquet), one
+//!   [`ImuRow`] at a time, in constant memory; units by column name
+//!   (`_rad_s`, `_deg_s`, `_m_s2`, `_g`) or, for bare names, by flag;
+//! * [`ParquetRowWriter`] and [`CsvLineWriter`] write rows ([`RowSink`]);
+//!   [`convert`] copies a table between the formats;
 //! * [`AtomicFile`] makes an output file appear whole or not at all.
 //!
 //! The CSV layout is that of the BROAD benchmark files shipped with the

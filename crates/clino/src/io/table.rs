@@ -93,7 +93,7 @@ impl<R: Read> Read for Tracked<R> {
 }
 
 /// Streaming reader of a CSV table by header name (the rules are in the
-/// [module docs](self)).
+/// module docs of `io::table`, repeated in [`crate::io`]).
 ///
 /// ```
 /// use clino::io::TableReader;

@@ -152,7 +152,7 @@ pub fn isolable(acc: &SixAxisAccelerometer, f: FaultSet) -> bool {
 /// The other sets of `|F|` chains whose fault space contains every fault of
 /// `F` (`range(P_F) ⊆ range(P_S)`): a fault on `F` is explained by each of
 /// them as well, so no residual can tell them apart. Empty exactly when a
-/// restorable `F` is isolable ([`isolable`]); e.g. 1234 → [1237].
+/// restorable `F` is isolable ([`isolable`]); e.g. 1234 → \[1237\].
 pub fn confusable_with(acc: &SixAxisAccelerometer, f: FaultSet) -> Vec<FaultSet> {
     let p = scaled_parity(acc);
     FaultSet::all_of_size(f.len())

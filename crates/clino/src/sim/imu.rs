@@ -5,7 +5,7 @@
 //! 1. the physical input x (body rate ω_b, or specific force f_b = Cᵀ·(a + g·e_z));
 //! 2. scale, misalignment and temperature: x' = (I + diag(s + s_T·ΔT) + M)·x,
 //!    with s the scale-factor errors, s_T their temperature coefficients and M
-//!    the cross-axis sensitivities (zero diagonal; M[i][j] is the response of
+//!    the cross-axis sensitivities (zero diagonal; `M[i][j]` is the response of
 //!    axis i to input along j, in rad for small misalignment angles);
 //! 3. bias: x' + b + b_T·ΔT + b_F(t) + b_RW(t), where b_F is flicker (1/f)
 //!    noise, the IEEE Std 952 bias instability B (two-sided PSD B²/(2πf),
