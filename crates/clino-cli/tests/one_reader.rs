@@ -185,3 +185,37 @@ fn parquet_in_and_out_equals_the_csv_path_to_the_last_bit() {
     );
     assert!(!d.join("out.csv").exists());
 }
+
+#[test]
+fn fuse_behind_a_pipe_answers_each_row_as_it_arrives() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_clino"))
+        .args(["fuse", "-", "-f", "mahony"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    stdin
+        .write_all(b"t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n")
+        .unwrap();
+    let mut line = String::new();
+    out.read_line(&mut line).unwrap();
+    assert!(line.starts_with("t_s,qw"), "{line}");
+    for k in 0..50 {
+        // the input stays open: each output row must come before the next input row
+        writeln!(stdin, "{},0,0,0,0,0,9.81", k as f64 * 0.01).unwrap();
+        stdin.flush().unwrap();
+        line.clear();
+        out.read_line(&mut line).unwrap();
+        assert!(
+            line.starts_with(&format!("{}", k as f64 * 0.01)),
+            "row {k}: {line}"
+        );
+    }
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}

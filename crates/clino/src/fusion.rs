@@ -509,6 +509,9 @@ pub fn fuse_traced<R: Read, W: Write>(
     let mut out = CsvLineWriter::new(writer);
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     out.header(&FUSE_HEADER).map_err(io_err)?;
+    if opts.flush_rows {
+        out.flush().map_err(io_err)?;
+    }
     let rep = fuse_into(reader, &mut out, config, opts, trace)?;
     out.finish().map_err(io_err)?;
     Ok(rep)
