@@ -10,7 +10,7 @@
 //! [`run_conical`] simulates the whole bench: cone → IMU model → filter →
 //! analysis, one frequency after another.
 
-use super::filters::{FilterFactory, filter_factory, run_filter};
+use super::filters::{filter_factory, run_filter};
 use super::sensitivity as sens;
 use super::sinefit::fit3;
 use crate::Result;
@@ -370,7 +370,7 @@ pub fn run_conical(
 ) -> Result<Vec<ConicalPoint>> {
     check_sweep(&cfg.freqs_hz, cfg.rate_hz)?;
     cfg.sensor.validate()?;
-    let factory: FilterFactory = filter_factory(&cfg.filter, cfg.rate_hz)?;
+    let factory = filter_factory(&cfg.filter, cfg.rate_hz)?;
     let mut out = Vec::with_capacity(cfg.freqs_hz.len());
     for (i, &f) in cfg.freqs_hz.iter().enumerate() {
         let alpha = cfg.alpha_at(f);

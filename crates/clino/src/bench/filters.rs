@@ -16,9 +16,6 @@ use crate::fusion::{FilterSpec, parse_spec};
 use clino_core::pipeline::Pipeline;
 use clino_core::{Attitude, ImuSample};
 
-/// What the bench builds its filters from: the one filter specification.
-pub type FilterFactory = FilterSpec;
-
 /// Filter names the bench accepts (`poisson-rect` is `poisson:integrator=rectangle`).
 pub const FILTER_NAMES: [&str; 6] = [
     "poisson",
@@ -51,7 +48,7 @@ pub fn run_filter(spec: &FilterSpec, samples: &[ImuSample], _rate_hz: f64) -> Ve
 
 /// The filter named by `spec` (see the module doc), checked. `rate_hz` must be
 /// a positive rate (the runs it is for are sampled at it).
-pub fn filter_factory(spec: &str, rate_hz: f64) -> Result<FilterFactory> {
+pub fn filter_factory(spec: &str, rate_hz: f64) -> Result<FilterSpec> {
     if !(rate_hz.is_finite() && rate_hz > 0.0) {
         return Err(crate::Error::new(
             crate::ErrorKind::InvalidInput,
