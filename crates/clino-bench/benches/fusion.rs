@@ -129,7 +129,8 @@ fn bench_fuse(c: &mut Criterion) {
                     ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
                 fuse(&mut r, std::io::sink(), &cfg, &FuseOptions::default())
                     .unwrap()
-                    .rows
+                    .counts
+                    .samples
             })
         });
     }
@@ -140,7 +141,8 @@ fn bench_fuse(c: &mut Criterion) {
                 ImuCsvReader::new(black_box(text.as_bytes()), "bench.csv", &imu_only).unwrap();
             fuse(&mut r, std::io::sink(), &offline, &FuseOptions::default())
                 .unwrap()
-                .rows
+                .counts
+                .samples
         })
     });
     g.bench_function("read_imu_only", |b| {

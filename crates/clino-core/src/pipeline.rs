@@ -92,18 +92,19 @@ impl Status {
         }
     }
 
+    /// Every status, in the order of [`Counts`].
+    pub const ALL: [Status; 6] = [
+        Status::Waiting,
+        Status::Initialised,
+        Status::Fused,
+        Status::GyroOnly,
+        Status::Dropout,
+        Status::Saturated,
+    ];
+
     /// The status named `s` (the inverse of [`Status::as_str`]).
     pub fn from_str_name(s: &str) -> Option<Self> {
-        [
-            Status::Waiting,
-            Status::Initialised,
-            Status::Fused,
-            Status::GyroOnly,
-            Status::Dropout,
-            Status::Saturated,
-        ]
-        .into_iter()
-        .find(|k| k.as_str() == s)
+        Self::ALL.into_iter().find(|k| k.as_str() == s)
     }
 
     /// True when the filter used the sample.
@@ -153,6 +154,7 @@ impl Output {
 
 /// Counts of what the pipeline did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Counts {
     /// Samples seen.
     pub samples: u64,
@@ -171,7 +173,8 @@ pub struct Counts {
 }
 
 impl Counts {
-    fn add(&mut self, s: Status) {
+    /// Count one sample of status `s`.
+    pub fn record(&mut self, s: Status) {
         self.samples += 1;
         match s {
             Status::Waiting => self.waiting += 1,
@@ -293,7 +296,7 @@ impl Pipeline {
     #[inline]
     pub fn update(&mut self, sample: &ImuSample) -> Output {
         let status = self.step(sample);
-        self.counts.add(status);
+        self.counts.record(status);
         Output {
             status,
             attitude: self.attitude(),
@@ -452,14 +455,7 @@ mod tests {
 
     #[test]
     fn status_names_round_trip() {
-        for s in [
-            Status::Waiting,
-            Status::Initialised,
-            Status::Fused,
-            Status::GyroOnly,
-            Status::Dropout,
-            Status::Saturated,
-        ] {
+        for s in Status::ALL {
             assert_eq!(Status::from_str_name(s.as_str()), Some(s));
         }
     }

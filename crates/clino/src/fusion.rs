@@ -25,8 +25,8 @@
 //! let mut out = Vec::new();
 //! let config = FilterConfig::new(FilterKind::Madgwick);
 //! let report = fuse(&mut reader, &mut out, &config, &FuseOptions::default())?;
-//! assert_eq!(report.rows, 6286);
-//! assert_eq!(report.dropouts, 0);
+//! assert_eq!(report.counts.samples, 6286);
+//! assert_eq!(report.counts.dropouts, 0);
 //! let csv = String::from_utf8(out).unwrap();
 //! assert!(csv.starts_with("t_s,qw,qx,qy,qz,roll_deg,pitch_deg,inclination_deg,status\n"));
 //! assert_eq!(csv.lines().count(), 6287);
@@ -394,38 +394,19 @@ impl FilterConfig {
     }
 }
 
-/// Counts of a run of [`fuse`].
+/// Counts of a run of [`fuse`]: the pipeline's [`Counts`] (one per row;
+/// `samples` = rows read = rows written) and where the first unusable row was.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct FuseReport {
-    /// Rows read (= rows written).
-    pub rows: u64,
-    /// Rows that initialised the attitude (1, or 0 if none could).
-    pub initialised: u64,
-    /// Rows fused (gyro + accelerometer).
-    pub fused: u64,
-    /// Rows used for the gyro only.
-    pub gyro_only: u64,
-    /// Rows before the filter could initialise.
-    pub waiting: u64,
-    /// Rows with NaN gyro or accelerometer values (the filter kept its state).
-    pub dropouts: u64,
-    /// Rows beyond the physical bounds (the filter kept its state).
-    pub saturated: u64,
+    /// Rows by status.
+    pub counts: Counts,
     /// Line of the first dropout or saturated row.
     pub first_dropout_line: Option<u64>,
 }
 
 impl FuseReport {
     fn add(&mut self, status: Status, line: u64) {
-        self.rows += 1;
-        match status {
-            Status::Waiting => self.waiting += 1,
-            Status::Initialised => self.initialised += 1,
-            Status::Fused => self.fused += 1,
-            Status::GyroOnly => self.gyro_only += 1,
-            Status::Dropout => self.dropouts += 1,
-            Status::Saturated => self.saturated += 1,
-        }
+        self.counts.record(status);
         if matches!(status, Status::Dropout | Status::Saturated) {
             self.first_dropout_line.get_or_insert(line);
         }
@@ -841,8 +822,8 @@ mod tests {
         let cfg = FilterConfig::new(FilterKind::Dynamic).with_offline(true);
         let rep = fuse(&mut rd, &mut out, &cfg, &FuseOptions::default()).unwrap();
         let out = String::from_utf8(out).unwrap();
-        assert_eq!(rep.rows, 400);
-        assert_eq!(rep.dropouts, 1);
+        assert_eq!(rep.counts.samples, 400);
+        assert_eq!(rep.counts.dropouts, 1);
         assert_eq!(out.lines().count(), 401);
         let last: Vec<&str> = out.lines().last().unwrap().split(',').collect();
         let incl: f64 = last[7].parse().unwrap();
@@ -861,7 +842,7 @@ mod tests {
         }
         for k in FilterKind::ALL {
             let (rep, out) = run(&text, k, false).unwrap();
-            assert_eq!(rep.rows, 50);
+            assert_eq!(rep.counts.samples, 50);
             let lines: Vec<&str> = out.lines().collect();
             assert_eq!(lines.len(), 51);
             assert_eq!(lines[0], FUSE_HEADER.join(","));
@@ -886,7 +867,7 @@ mod tests {
         text.push_str("0.03,0,0,0.5,0,,9.81\n");
         text.push_str("0.04,0,0,0.5,0,0,9.81\n");
         let (rep, out) = run(&text, FilterKind::Poisson, false).unwrap();
-        assert_eq!(rep.dropouts, 2);
+        assert_eq!(rep.counts.dropouts, 2);
         assert_eq!(rep.first_dropout_line, Some(4));
         let rows: Vec<Vec<&str>> = out
             .lines()
@@ -928,7 +909,7 @@ mod tests {
         }
         for k in FilterKind::ALL {
             let (rep, out) = run(&text, k, false).unwrap();
-            assert_eq!(rep.saturated, 1, "{k}");
+            assert_eq!(rep.counts.saturated, 1, "{k}");
             assert_eq!(rep.first_dropout_line, Some(11));
             let rows: Vec<&str> = out.lines().skip(1).collect();
             assert!(rows[9].ends_with(",saturated"), "{k}: {}", rows[9]);
@@ -967,7 +948,7 @@ mod tests {
         text.push_str("0.00,0,0,0,0,0,0\n");
         text.push_str("0.01,0,0,0,0,0,9.81\n");
         let (rep, out) = run(&text, FilterKind::Madgwick, false).unwrap();
-        assert_eq!(rep.waiting, 1);
+        assert_eq!(rep.counts.waiting, 1);
         let first = out.lines().nth(1).unwrap();
         assert_eq!(first, "0.0,NaN,NaN,NaN,NaN,NaN,NaN,NaN,waiting");
     }

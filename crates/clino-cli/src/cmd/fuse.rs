@@ -115,14 +115,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     eprintln!(
         "clino fuse: {} rows with {}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{})",
-        rep.rows,
+        rep.counts.samples,
         config.label(),
-        rep.initialised,
-        rep.fused,
-        rep.gyro_only,
-        rep.waiting,
-        rep.dropouts,
-        rep.saturated,
+        rep.counts.initialised,
+        rep.counts.fused,
+        rep.counts.gyro_only,
+        rep.counts.waiting,
+        rep.counts.dropouts,
+        rep.counts.saturated,
         rep.first_dropout_line
             .map(|l| format!(", first at line {l}"))
             .unwrap_or_default()
