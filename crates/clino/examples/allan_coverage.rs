@@ -1,4 +1,4 @@
-//! Accuracy and interval coverage of `clino::bench::allan` on simulated static
+//! Accuracy and interval coverage of `clino::testbench::allan` on simulated static
 //! records with known white noise N, bias instability B and random walk K.
 //!
 //! ```sh
@@ -15,9 +15,9 @@
 //! N, B, K and the IEEE 952 readings n, b, k: the mean and RMS of the relative
 //! error, the largest, the share within the done-criterion (N 3 %, B 20 %,
 //! K 10 %) and the share of 99 % intervals that hold the truth.
-use clino::bench::allan::{Estimate, allan_imu};
 use clino::sim::ImuModel;
 use clino::sim::motion::Static;
+use clino::testbench::allan::{Estimate, allan_imu};
 
 #[derive(Default)]
 struct Stats {

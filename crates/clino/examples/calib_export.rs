@@ -4,16 +4,16 @@
 //! `cargo run -p clino --example calib_export -- OUT_DIR` writes:
 //! * `accel_poses.csv` — a continuous recording through 84 poses (`synth::calibration_schedule`), 25–80 °C, with
 //!   `temp_c` and `ref_inclination_deg` (raw readings of the default poorly
-//!   calibrated IMU of `clino::calib::synth`);
+//!   calibrated IMU of `clino::sim::calib`);
 //! * `accel_nominal.csv` — the same IMU through 26 poses at 29–31 °C;
 //! * `ferraris/*.csv` — the sections of a Ferraris calibration (six static
 //!   positions, three 360° rotations) at 29–31 °C, one file per section;
 //! * `validation.csv` — 300 check poses: raw reading, temperature, true specific force;
 //! * `stations.csv` — survey stations of a build-and-hold well with roll tests;
 //! * `stations_truth.csv` — the inclination/azimuth/toolface the stations were made from.
-use clino::calib::synth::{self, SynthOptions};
 use clino::calib::validation_set;
 use clino::core::{Attitude, Vec3};
+use clino::sim::calib::{self as synth, SynthOptions};
 use std::io::Write;
 use std::path::Path;
 

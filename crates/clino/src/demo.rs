@@ -29,7 +29,7 @@ pub const SECTIONS: [Section; 6] = [
     ),
     (
         "4. Dynamic testing on a Stewart platform",
-        crate::bench::demo_summary,
+        crate::testbench::demo_summary,
     ),
     (
         "5. Redundant six-axis accelerometer",

@@ -10,7 +10,7 @@
 //! * [`error`] — one error type that names the file, line and column;
 //! * [`report`] — plots (SVG/PNG);
 //! * [`sim`] — truth trajectories, simulated sensors, Stewart platform;
-//! * [`mod@bench`] — dynamic and static test analysis (sine fits, sensitivities,
+//! * [`mod@testbench`] — dynamic and static test analysis (sine fits, sensitivities,
 //!   cross-coupling, Allan deviation);
 //! * [`smooth`] — offline (forward–backward) tilt for whole recordings;
 //! * [`calib`] — estimating sensor calibrations (static poses, multi-position fits, calibration files);
@@ -24,7 +24,6 @@
 
 pub use clino_core as core;
 
-pub mod bench;
 pub mod calib;
 pub mod demo;
 pub mod error;
@@ -36,5 +35,6 @@ pub mod report;
 pub mod sim;
 pub mod smooth;
 pub mod survey;
+pub mod testbench;
 
 pub use error::{Error, ErrorKind, Result};

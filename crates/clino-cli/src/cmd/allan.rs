@@ -1,9 +1,9 @@
 //! `clino allan`: Allan deviation, IEEE Std 952 readings and fitted noise terms of a static recording.
 
-use clino::bench::allan::{AxisAllan, ChannelStatus, Reading, allan_imu};
-use clino::bench::plots;
-use clino::bench::static_record::{GapPolicy, StaticRecord, read_static_record};
 use clino::sim::ImuModel;
+use clino::testbench::allan::{AxisAllan, ChannelStatus, Reading, allan_imu};
+use clino::testbench::plots;
+use clino::testbench::static_record::{GapPolicy, StaticRecord, read_static_record};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -53,7 +53,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let (record, samples, rate) = match (&a.recording, &a.simulate) {
         (Some(p), None) => {
             let r = read_static_record(p, policy)?;
-            r.require(clino::bench::allan::MIN_SAMPLES, "an Allan analysis")?;
+            r.require(clino::testbench::allan::MIN_SAMPLES, "an Allan analysis")?;
             let (s, rate) = (r.samples.clone(), r.rate_hz);
             (Some(r), s, rate)
         }
@@ -100,7 +100,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             rate_hz: rate,
             samples: samples.len(),
             duration_s,
-            confidence: clino::bench::allan::CONFIDENCE,
+            confidence: clino::testbench::allan::CONFIDENCE,
             record: record.as_ref(),
             warnings,
             axes: &axes,

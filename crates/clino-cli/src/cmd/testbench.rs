@@ -1,13 +1,13 @@
 //! `clino testbench conical|orbit|static|analyze`: the dynamic test bench.
 
-use clino::bench::conical::{ConicalConfig, PlatformSpec, run_conical};
-use clino::bench::orbit::{OrbitConfig, run_orbit};
-use clino::bench::recording::{Excitation, Table, analyze};
-use clino::bench::static_record::read_static_record;
-use clino::bench::{plots, static_test};
 use clino::sim::ImuModel;
 use clino::sim::motion::ConeAxis;
 use clino::sim::stewart::{Geometry, ServoLegs};
+use clino::testbench::conical::{ConicalConfig, PlatformSpec, run_conical};
+use clino::testbench::orbit::{OrbitConfig, run_orbit};
+use clino::testbench::recording::{Excitation, Table, analyze};
+use clino::testbench::static_record::read_static_record;
+use clino::testbench::{plots, static_test};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
@@ -106,7 +106,7 @@ struct RecordArgs {
     #[arg(long)]
     bandwidth_hz: Option<f64>,
     /// Attitude filter giving the recorded inclinometer quaternion.
-    #[arg(long, default_value = clino::bench::filters::BEST_FILTER)]
+    #[arg(long, default_value = clino::testbench::filters::BEST_FILTER)]
     filter: String,
     /// Sample rate, Hz.
     #[arg(long, default_value_t = 200.0)]
@@ -135,7 +135,7 @@ struct Common {
     #[arg(long)]
     bandwidth_hz: Option<f64>,
     /// Attitude filter, e.g. mahony, complementary:tau=10, madgwick:beta=0.01, poisson, dynamic:bandwidth=0.15.
-    #[arg(long, default_value = clino::bench::filters::BEST_FILTER)]
+    #[arg(long, default_value = clino::testbench::filters::BEST_FILTER)]
     filter: String,
     /// Sample rate, Hz.
     #[arg(long, default_value_t = 200.0)]
@@ -223,7 +223,7 @@ struct StaticArgs {
 
 #[derive(clap::Args)]
 struct AnalyzeArgs {
-    /// Lab recording (CSV; see `clino::bench::recording` for the columns).
+    /// Lab recording (CSV; see `clino::testbench::recording` for the columns).
     recording: PathBuf,
     /// What the platform did: conical or orbit.
     #[arg(long, default_value = "conical")]
@@ -443,7 +443,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 Excitation::Conical => r.alpha_deg.to_radians(),
                 Excitation::Orbit => r.amplitude_mm * 1e-3,
             };
-            clino::bench::recording::simulate_lab_recording(
+            clino::testbench::recording::simulate_lab_recording(
                 &r.out,
                 exc,
                 amp,

@@ -20,11 +20,12 @@
 //!   ([`CalibrationFile::load`], [`CalibrationFile::apply`],
 //!   [`CalibrationFile::apply_iter`]);
 //! * [`recording`] — the CSV recordings these read;
-//! * [`synth`] — a seeded generator of miscalibrated recordings with truth.
+//! * the seeded generator of miscalibrated recordings with truth lives in [`crate::sim::calib`].
 //!
 //! ## Example: calibrate, save, load, apply
 //! ```
-//! use clino::calib::{self, synth, fit::{FitOptions, ModelKind}, CalibrationFile};
+//! use clino::sim::calib as synth;
+//! use clino::calib::{self, fit::{FitOptions, ModelKind}, CalibrationFile};
 //! let opt = synth::SynthOptions::default();
 //! let att = synth::attitudes_from_ups(&synth::cube_directions());
 //! let temps = vec![30.0; att.len()];
@@ -46,7 +47,7 @@ pub mod gyro;
 pub mod recording;
 pub mod six;
 pub mod statics;
-pub mod synth;
+use crate::sim::calib as synth;
 
 #[cfg(test)]
 mod tests;

@@ -9,6 +9,8 @@
 //!   `mpu6050-raw`) and the seeded simulator ([`ImuModel::simulate`],
 //!   [`ImuModel::stream`]);
 //! * [`platform`] — the actual (servo-filtered) motion of a platform, as a [`Motion`];
+//! * [`calib`] — a seeded generator of miscalibrated recordings (accelerometer, gyro,
+//!   magnetometer poses and rate-table runs) with their truth;
 //! * [`stewart`] — 6-UPS Stewart platform: geometry, inverse and forward
 //!   kinematics, servo legs.
 //!
@@ -24,6 +26,7 @@ pub mod slewing;
 
 use clino_core::{Attitude, Vec3};
 
+pub mod calib;
 pub mod imu;
 pub mod motion;
 pub mod platform;

@@ -171,7 +171,8 @@ mod tests {
 #[cfg(test)]
 mod calibrated_roll_test {
     use super::super::{StationReading, SurveyOptions, calibrate_readings, survey};
-    use crate::calib::{self, CalibrationFile, fit, synth};
+    use crate::calib::{self, CalibrationFile, fit};
+    use crate::sim::calib as synth;
     use clino_core::Vec3;
     use nalgebra::{Rotation3, Vector3};
 

@@ -103,8 +103,8 @@ pub fn static_plot(path: &Path, r: &StaticResult) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bench::conical::{ConicalConfig, run_conical};
     use crate::sim::ImuModel;
+    use crate::testbench::conical::{ConicalConfig, run_conical};
 
     #[test]
     fn writes_a_conical_svg() {

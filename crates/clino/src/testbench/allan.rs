@@ -27,7 +27,7 @@
 //! ([`ChannelStatus`]) rather than read.
 //!
 //! ```
-//! use clino::bench::allan::analyse_axis;
+//! use clino::testbench::allan::analyse_axis;
 //! use clino::sim::{ImuModel, motion::Static};
 //! let mut m = ImuModel::ideal();
 //! m.gyro.noise_density = 1e-3; // rad/s/√Hz
@@ -582,7 +582,7 @@ pub const AXES: [&str; 6] = ["gyr_x", "gyr_y", "gyr_z", "acc_x", "acc_y", "acc_z
 
 /// Allan analysis of the six axes of a static IMU record at `rate_hz`
 /// (uniform sampling is the caller's to ensure: see
-/// [`crate::bench::static_record`]; time stamps are checked to increase).
+/// [`crate::testbench::static_record`]; time stamps are checked to increase).
 pub fn allan_imu(samples: &[ImuSample], rate_hz: f64) -> Result<Vec<AxisAllan>> {
     if let Some(i) = samples
         .windows(2)

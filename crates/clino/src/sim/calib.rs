@@ -16,8 +16,8 @@
 //! This is deliberately smaller than `clino::sim` (trajectories, full IMU error
 //! model): it makes exactly the data a calibration needs, with truth attached.
 
-use super::fit::Observation;
-use super::recording::Recording;
+use crate::calib::fit::Observation;
+use crate::calib::recording::Recording;
 use clino_core::sensor::{MatrixModel, MwdModel};
 use clino_core::{Attitude, ImuSample, Vec3, tilt};
 use rand::SeedableRng;

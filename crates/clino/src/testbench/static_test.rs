@@ -95,7 +95,7 @@ pub fn static_test(samples: &[ImuSample], filter: &str, settle_s: f64) -> Result
     }
     if let Some(i) = samples
         .windows(2)
-        .position(|w| !crate::bench::allan::increasing(w[0].t_s, w[1].t_s))
+        .position(|w| !crate::testbench::allan::increasing(w[0].t_s, w[1].t_s))
     {
         return Err(Error::new(
             ErrorKind::TimeNotIncreasing,

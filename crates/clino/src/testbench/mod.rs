@@ -17,7 +17,7 @@
 //! * [`recording`] — lab recordings (CSV) for `analyze`.
 //!
 //! ```
-//! use clino::bench::conical::{ConicalConfig, run_conical};
+//! use clino::testbench::conical::{ConicalConfig, run_conical};
 //! use clino::sim::ImuModel;
 //! let cfg = ConicalConfig::new(5f64.to_radians(), vec![1.0], ImuModel::ideal(), "poisson");
 //! let pts = run_conical(&cfg, &mut |_, _| {}).unwrap();
