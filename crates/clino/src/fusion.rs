@@ -356,42 +356,103 @@ impl FilterConfig {
     /// saturation) hold the attitude of the sample before; the smoother sees
     /// only usable samples, with time steps spanning the gaps.
     pub fn smooth_samples(&self, samples: &[ImuSample]) -> Result<Vec<Option<Attitude>>> {
+        let mut held = HeldRecording::default();
+        for s in samples {
+            held.push(s);
+        }
+        let q = self.smooth_held(&mut held, None)?;
+        Ok(held.expand(&q).collect())
+    }
+
+    /// The smoother over a [`HeldRecording`] (its usable samples; the lever-arm
+    /// compensation is written over its specific forces).
+    fn smooth_held(
+        &self,
+        held: &mut HeldRecording,
+        progress: Option<crate::smooth::Progress<'_>>,
+    ) -> Result<Vec<Attitude>> {
         self.validate()?;
         let FilterSpec::Dynamic(params) = self.spec else {
             return Err(invalid("offline smoothing needs the dynamic filter"));
         };
-        let usable: Vec<usize> = (0..samples.len())
-            .filter(|&k| clino_core::pipeline::admission(&samples[k]).is_none())
-            .collect();
-        let t = |j: usize| samples[usable[j]].t_s;
-        let gyr: Vec<Vec3> = usable.iter().map(|&k| samples[k].gyr_rad_s).collect();
-        let acc: Vec<Vec3> = usable.iter().map(|&k| samples[k].acc_m_s2).collect();
-        let dt: Vec<f64> = (0..usable.len())
-            .map(|j| match j {
-                // nominal period for the first sample (used only to initialise)
-                0 if usable.len() > 1 => t(1) - t(0),
-                0 => 0.01,
-                _ => t(j) - t(j - 1),
-            })
-            .collect();
         let opts = crate::smooth::SmoothOptions {
             params,
             lever_arm_m: self.lever_arm_m,
             ..Default::default()
         };
-        let q = crate::smooth::smooth(&gyr, &acc, &dt, &opts);
-        let mut out = vec![None; samples.len()];
-        let mut last = None;
+        held.finish_intervals();
+        Ok(crate::smooth::smooth_in_place(
+            &held.gyr,
+            &mut held.acc,
+            &held.dt,
+            &opts,
+            progress,
+        ))
+    }
+}
+
+/// A recording held for the offline smoother in compact columns: per row its
+/// time and admission (9 bytes), per usable row its rate, specific force and
+/// the interval since the usable row before (56 bytes).
+#[derive(Debug, Default)]
+struct HeldRecording {
+    t: Vec<f64>,
+    status: Vec<Option<Status>>,
+    gyr: Vec<Vec3>,
+    acc: Vec<Vec3>,
+    dt: Vec<f64>,
+    last_usable_t: Option<f64>,
+}
+
+impl HeldRecording {
+    /// Hold one row; returns its admission (`None` when the smoother uses it).
+    fn push(&mut self, s: &ImuSample) -> Option<Status> {
+        let st = clino_core::pipeline::admission(s);
+        self.t.push(s.t_s);
+        self.status.push(st);
+        if st.is_none() {
+            self.gyr.push(s.gyr_rad_s);
+            self.acc.push(s.acc_m_s2);
+            // the first interval is set by `finish_intervals`
+            self.dt
+                .push(self.last_usable_t.map_or(0.0, |t0| s.t_s - t0));
+            self.last_usable_t = Some(s.t_s);
+        }
+        st
+    }
+
+    /// The first usable sample's interval: the nominal period (the next
+    /// interval), used only to initialise.
+    fn finish_intervals(&mut self) {
+        match self.dt.len() {
+            0 => {}
+            1 => self.dt[0] = 0.01,
+            _ => self.dt[0] = self.dt[1],
+        }
+    }
+
+    /// One attitude per row from the usable rows' attitudes `q`: unusable
+    /// rows hold the attitude before them (`None` before the first usable).
+    fn expand<'a>(&'a self, q: &'a [Attitude]) -> impl Iterator<Item = Option<Attitude>> + 'a {
         let mut j = 0;
-        for (k, slot) in out.iter_mut().enumerate() {
-            if j < usable.len() && usable[j] == k {
+        let mut last = None;
+        self.status.iter().map(move |st| {
+            if st.is_none() {
                 last = q.get(j).copied();
                 j += 1;
             }
-            *slot = last;
-        }
-        Ok(out)
+            last
+        })
     }
+}
+
+/// What a long run of [`fuse`] reports as it goes (for a progress bar).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FuseProgress {
+    /// Rows read so far (every [`crate::smooth::PROGRESS_EVERY`] rows).
+    Read(u64),
+    /// The offline smoother's stage, with samples done and samples in all.
+    Smooth(crate::smooth::Stage, usize, usize),
 }
 
 /// Counts of a run of [`fuse`]: the pipeline's [`Counts`] (one per row;
@@ -414,7 +475,7 @@ impl FuseReport {
 }
 
 /// Options of a run.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Default)]
 pub struct FuseOptions<'a> {
     /// Make a NaN or out-of-bounds gyro or accelerometer value an error
     /// (naming its line and column).
@@ -425,6 +486,19 @@ pub struct FuseOptions<'a> {
     /// Flush the output after every row (for a pipe or a terminal, so each
     /// row is seen when its input row arrives).
     pub flush_rows: bool,
+    /// Told how far a long run has got ([`FuseProgress`]).
+    pub progress: Option<&'a dyn Fn(FuseProgress)>,
+}
+
+impl std::fmt::Debug for FuseOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FuseOptions")
+            .field("strict", &self.strict)
+            .field("calibration", &self.calibration)
+            .field("flush_rows", &self.flush_rows)
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
 }
 
 /// The error for a row the pipeline could not use, under `strict`.
@@ -537,44 +611,61 @@ pub fn fuse_into<R: Read, S: RowSink>(
         }
         Ok::<(), std::io::Error>(())
     };
+    let progress = |p: FuseProgress| {
+        if let Some(f) = opts.progress {
+            f(p)
+        }
+    };
+    let mut rows = 0u64;
+    let read = |rows: &mut u64| {
+        *rows += 1;
+        if *rows % crate::smooth::PROGRESS_EVERY as u64 == 0 {
+            progress(FuseProgress::Read(*rows));
+        }
+    };
     if config.offline {
-        // the smoother needs the whole recording: samples are held in memory
-        let mut rows = Vec::new();
-        let mut samples = Vec::new();
+        // the smoother needs the whole recording: it is held in compact columns
+        let mut held = HeldRecording::default();
         while let Some(row) = reader.next_row()? {
             check(reader, &row)?;
+            read(&mut rows);
             let s = match opts.calibration {
                 Some(c) if !row.has_dropout() => c.calibration().apply(&row.sample),
                 _ => row.sample,
             };
-            if let Some(st) = clino_core::pipeline::admission(&s)
-                && opts.strict
-            {
-                return Err(dropout_error(reader, &row, st));
+            if let Some(st) = held.push(&s) {
+                if opts.strict {
+                    return Err(dropout_error(reader, &row, st));
+                }
+                report.add(st, row.line);
             }
-            rows.push((row.line, row.sample.t_s));
-            samples.push(s);
         }
-        let qs = config.smooth_samples(&samples)?;
-        for (((line, t), s), q) in rows.iter().zip(&samples).zip(&qs) {
-            let status = match (clino_core::pipeline::admission(s), q) {
-                (Some(st), _) => st,
+        progress(FuseProgress::Read(rows));
+        let mut tell = |stage, k, n| progress(FuseProgress::Smooth(stage, k, n));
+        let qs = config.smooth_held(&mut held, Some(&mut tell))?;
+        for ((t, st), q) in held.t.iter().zip(&held.status).zip(held.expand(&qs)) {
+            // before the first usable row the smoother has no attitude
+            let status = match (st, q) {
+                (Some(st), _) => *st,
                 (None, None) => Status::Waiting,
                 (None, Some(_)) => Status::Fused,
             };
-            report.add(status, *line);
+            if st.is_none() {
+                report.counts.record(status);
+            }
             let row = ImuRow {
-                line: *line,
+                line: 0,
                 sample: ImuSample::new(*t, Vec3::zeros(), Vec3::zeros()),
                 ref_q: None,
                 movement: None,
             };
-            emit(out, &row, *q, status).map_err(io_err)?;
+            emit(out, &row, q, status).map_err(io_err)?;
         }
         return Ok(report);
     }
     while let Some(row) = reader.next_row()? {
         check(reader, &row)?;
+        read(&mut rows);
         let o = pipeline.update(&row.sample);
         if opts.strict && matches!(o.status, Status::Dropout | Status::Saturated) {
             return Err(dropout_error(reader, &row, o.status));

@@ -26,8 +26,10 @@
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
 //!
-//! Memory: the recording and one attitude per sample are held (≈ 100 bytes a
-//! sample), unlike the streaming real-time path.
+//! Memory: the recording (56 bytes a sample: rate, specific force, interval)
+//! and at most 88 bytes a sample of working state beyond the 32-byte
+//! attitudes returned ([`smooth_in_place`]), unlike the streaming real-time
+//! path, which holds nothing.
 
 use clino_core::filter::{DynamicParams, FilterSpec};
 use clino_core::pipeline::Pipeline;
@@ -107,6 +109,55 @@ fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> P
 /// real-time differentiator's, but centred: zero lag and a quarter of its noise).
 const CENTRED_HALF_WINDOW_S: f64 = 0.025;
 
+/// A stage of the offline smoother, reported to a progress callback with the
+/// number of samples it has done (of `n`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Lever-arm compensation (a real-time pass for the bias, then the centred derivative).
+    Compensate,
+    /// One of the five filter passes (1 to 5, see the [module docs](self)).
+    Pass(u8),
+    /// The whole-record refinement ([`refine_bounded_motion`]).
+    Refine,
+}
+
+impl Stage {
+    /// The stage's place among the seven, 0-based (for a progress bar).
+    pub fn index(self) -> u64 {
+        match self {
+            Stage::Compensate => 0,
+            Stage::Pass(k) => u64::from(k),
+            Stage::Refine => 6,
+        }
+    }
+}
+
+/// The progress callback: called every [`PROGRESS_EVERY`] samples of a stage
+/// and at its end, with the stage, the samples done and the samples in all.
+pub type Progress<'a> = &'a mut dyn FnMut(Stage, usize, usize);
+
+/// How often (in samples) the smoother reports progress.
+pub const PROGRESS_EVERY: usize = 1 << 16;
+
+fn tick(progress: &mut Option<Progress<'_>>, stage: Stage, k: usize, n: usize) {
+    if let Some(p) = progress
+        && (k % PROGRESS_EVERY == 0 || k == n)
+    {
+        p(stage, k, n);
+    }
+}
+
+/// The running time of the passes: the sum of the usable intervals of `dt`.
+fn running_time(dt: &[f64]) -> Vec<f64> {
+    let mut now = 0.0;
+    dt.iter()
+        .map(|&h| {
+            now += if h.is_finite() && h > 0.0 { h } else { 0.0 };
+            now
+        })
+        .collect()
+}
+
 /// Lever-arm compensation for a whole recording with a centred derivative.
 ///
 /// ω̇ at sample k is the slope of a least-squares line through the rates of
@@ -121,69 +172,72 @@ pub fn compensate_centred(
     lever_arm_m: &Vec3,
     bias: &Vec3,
 ) -> Vec<Vec3> {
-    let n = gyr.len();
-    let mut t = Vec::with_capacity(n);
-    let mut now = 0.0;
-    for &h in dt {
-        now += if h.is_finite() && h > 0.0 { h } else { 0.0 };
-        t.push(now);
-    }
+    let mut out = acc.to_vec();
+    compensate_centred_in_place(gyr, &mut out, dt, lever_arm_m, bias);
+    out
+}
+
+/// [`compensate_centred`] writing over `acc` (sample k's result needs only
+/// the rates around k and its own specific force).
+pub fn compensate_centred_in_place(
+    gyr: &[Vec3],
+    acc: &mut [Vec3],
+    dt: &[f64],
+    lever_arm_m: &Vec3,
+    bias: &Vec3,
+) {
+    let n = gyr.len().min(acc.len()).min(dt.len());
+    let t = running_time(&dt[..n]);
     let good = |k: usize| gyr[k].iter().all(|v| v.is_finite());
-    (0..n)
-        .map(|k| {
-            if !good(k) || !acc[k].iter().all(|v| v.is_finite()) {
-                return acc[k];
-            }
-            let (mut lo, mut hi) = (k, k);
-            while lo > 0 && t[k] - t[lo - 1] <= CENTRED_HALF_WINDOW_S {
-                lo -= 1;
-            }
-            while hi + 1 < n && t[hi + 1] - t[k] <= CENTRED_HALF_WINDOW_S {
-                hi += 1;
-            }
-            let idx: Vec<usize> = (lo..=hi).filter(|&i| good(i)).collect();
-            let w = gyr[k] - bias;
-            let w_dot = if idx.len() >= 3 {
-                let tm = idx.iter().map(|&i| t[i]).sum::<f64>() / idx.len() as f64;
-                let ym = idx.iter().map(|&i| gyr[i]).sum::<Vec3>() / idx.len() as f64;
-                let sxx: f64 = idx.iter().map(|&i| (t[i] - tm).powi(2)).sum();
-                let sxy: Vec3 = idx.iter().map(|&i| (gyr[i] - ym) * (t[i] - tm)).sum();
-                if sxx > 0.0 { sxy / sxx } else { Vec3::zeros() }
-            } else {
-                Vec3::zeros()
-            };
-            acc[k] - clino_core::compensate::lever_arm_acceleration(&w, &w_dot, lever_arm_m)
-        })
-        .collect()
+    for k in 0..n {
+        if !good(k) || !acc[k].iter().all(|v| v.is_finite()) {
+            continue;
+        }
+        let (mut lo, mut hi) = (k, k);
+        while lo > 0 && t[k] - t[lo - 1] <= CENTRED_HALF_WINDOW_S {
+            lo -= 1;
+        }
+        while hi + 1 < n && t[hi + 1] - t[k] <= CENTRED_HALF_WINDOW_S {
+            hi += 1;
+        }
+        let idx = || (lo..=hi).filter(|&i| good(i));
+        let m = idx().count();
+        let w = gyr[k] - bias;
+        let w_dot = if m >= 3 {
+            let tm = idx().map(|i| t[i]).sum::<f64>() / m as f64;
+            let ym = idx().map(|i| gyr[i]).sum::<Vec3>() / m as f64;
+            let sxx: f64 = idx().map(|i| (t[i] - tm).powi(2)).sum();
+            let sxy: Vec3 = idx().map(|i| (gyr[i] - ym) * (t[i] - tm)).sum();
+            if sxx > 0.0 { sxy / sxx } else { Vec3::zeros() }
+        } else {
+            Vec3::zeros()
+        };
+        acc[k] -= clino_core::compensate::lever_arm_acceleration(&w, &w_dot, lever_arm_m);
+    }
 }
 
 /// One pass over the recording, through the [`Pipeline`] (its rules for
-/// dropouts apply). Returns the attitude after each sample and the bias
-/// estimate at each sample (in the forward sense). With `bias` given, the
-/// filter's bias is imposed at every sample instead of learnt.
-/// `dt[k]` is the interval that ends at sample k.
+/// dropouts apply), calling `each(i, pipeline)` after sample i. With `bias`
+/// given, the filter's bias is imposed at every sample instead of learnt.
+/// `t` is the running time ([`running_time`]) and `dt[k]` the interval that
+/// ends at sample k.
 ///
-/// The time stamps the pipeline sees are the running sum of `dt` (forwards)
-/// or its negation (backwards, where going from sample i+1 back to sample i
-/// undoes the rotation of interval i+1 with the rate negated). A pass that
-/// starts from a resumed state is given the time of the sample before its first.
+/// The time stamps the pipeline sees are `t` (forwards) or its negation
+/// (backwards, where going from sample i+1 back to sample i undoes the
+/// rotation of interval i+1 with the rate negated). A pass that starts from a
+/// resumed state is given the time of the sample before its first.
+#[allow(clippy::too_many_arguments)]
 fn pass(
     gyr: &[Vec3],
     acc: &[Vec3],
+    t: &[f64],
     dt: &[f64],
     reverse: bool,
     f: &mut Pipeline,
     bias: Option<&[Vec3]>,
-) -> (Vec<Attitude>, Vec<Vec3>) {
+    mut each: impl FnMut(usize, &Pipeline),
+) {
     let n = gyr.len();
-    let mut t = Vec::with_capacity(n);
-    let mut now = 0.0;
-    for &h in dt {
-        now += if h.is_finite() && h > 0.0 { h } else { 0.0 };
-        t.push(now);
-    }
-    let mut out = vec![Attitude::identity(); n];
-    let mut bout = vec![Vec3::zeros(); n];
     let sign = if reverse { -1.0 } else { 1.0 };
     if f.filter().is_initialised() {
         let t0 = if reverse {
@@ -205,10 +259,8 @@ fn pass(
             ImuSample::new(t[i], gyr[i], acc[i])
         };
         f.update(&sample);
-        out[i] = f.filter().attitude();
-        bout[i] = f.filter().gyro_bias() * sign;
+        each(i, f);
     }
-    (out, bout)
 }
 
 /// Offline tilt of a whole recording (see the [module docs](self)).
@@ -218,67 +270,123 @@ fn pass(
 /// the filter rejects (non-finite values, dt ≤ 0) keep the state, as in the
 /// real-time path. Returns one attitude per sample.
 pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> Vec<Attitude> {
+    match opts.lever_arm_m {
+        Some(_) => {
+            let mut acc = acc.to_vec();
+            smooth_in_place(gyr, &mut acc, dt, opts, None)
+        }
+        None => smooth_compensated(gyr, acc, dt, opts, None),
+    }
+}
+
+/// [`smooth`] for long recordings: the lever-arm compensation (if any) is
+/// written over `acc`, and `progress` (if given) hears of every stage.
+///
+/// Memory beyond the inputs: at most 88 bytes a sample (8 of running time, 24
+/// of smoothed bias during the passes; 72 of refinement state and 16 of the
+/// two axes' results during the refinement), and the 32-byte attitudes returned.
+pub fn smooth_in_place(
+    gyr: &[Vec3],
+    acc: &mut [Vec3],
+    dt: &[f64],
+    opts: &SmoothOptions,
+    mut progress: Option<Progress<'_>>,
+) -> Vec<Attitude> {
+    let n = gyr.len().min(acc.len()).min(dt.len());
+    if let (Some(p), true) = (opts.lever_arm_m, n > 0) {
+        // a first real-time (compensated) pass learns the bias used for ω
+        let mut f0 = Pipeline::new(FilterSpec::Dynamic(opts.params)).with_lever_arm(Some(p));
+        let mut now = 0.0;
+        for k in 0..n {
+            now += if dt[k].is_finite() && dt[k] > 0.0 {
+                dt[k]
+            } else {
+                0.0
+            };
+            f0.update(&ImuSample::new(now, gyr[k], acc[k]));
+            tick(&mut progress, Stage::Compensate, k, n);
+        }
+        compensate_centred_in_place(gyr, &mut acc[..n], dt, &p, &f0.filter().gyro_bias());
+        tick(&mut progress, Stage::Compensate, n, n);
+    }
+    smooth_compensated(gyr, acc, dt, opts, progress)
+}
+
+/// The five passes, the combination and the refinement, on a recording
+/// already compensated for the lever arm.
+fn smooth_compensated(
+    gyr: &[Vec3],
+    acc: &[Vec3],
+    dt: &[f64],
+    opts: &SmoothOptions,
+    mut progress: Option<Progress<'_>>,
+) -> Vec<Attitude> {
     let n = gyr.len().min(acc.len()).min(dt.len());
     let (gyr, acc, dt) = (&gyr[..n], &acc[..n], &dt[..n]);
     if n == 0 {
         return Vec::new();
     }
-    // 1–3: learn the bias forwards, backwards (from the end's bias) and forwards
-    // again (from the start's bias); with a lever arm, compensate once, centred,
-    // with the bias of a first (real-time-compensated) pass
-    let compensated;
-    let acc = match opts.lever_arm_m {
-        Some(p) => {
-            // a first real-time (compensated) pass learns the bias used for ω
-            let mut f0 = Pipeline::new(FilterSpec::Dynamic(opts.params)).with_lever_arm(Some(p));
-            let mut now = 0.0;
-            for k in 0..n {
-                now += if dt[k].is_finite() && dt[k] > 0.0 {
-                    dt[k]
-                } else {
-                    0.0
-                };
-                f0.update(&ImuSample::new(now, gyr[k], acc[k]));
-            }
-            compensated = compensate_centred(gyr, acc, dt, &p, &f0.filter().gyro_bias());
-            &compensated[..]
-        }
-        None => acc,
+    let t = running_time(dt);
+    let mut run = |k: u8,
+                   reverse: bool,
+                   f: &mut Pipeline,
+                   bias: Option<&[Vec3]>,
+                   each: &mut dyn FnMut(usize, &Pipeline)| {
+        let mut done = 0;
+        pass(gyr, acc, &t, dt, reverse, f, bias, |i, f| {
+            each(i, f);
+            done += 1;
+            tick(&mut progress, Stage::Pass(k), done, n);
+        });
     };
-    // each pass starts where the previous one ended (attitude and bias), so
-    // no pass starts cold in the middle of motion
+    // 1–3: learn the bias forwards, backwards (from the end's bias) and
+    // forwards again (from the start's bias); each pass starts where the
+    // previous one ended (attitude and bias), so no pass starts cold in the
+    // middle of motion
     let mut fa = make(opts, None, true);
-    let (qa, ba) = pass(gyr, acc, dt, false, &mut fa, None);
-    let mut fb = make(opts, Some((qa[n - 1], -ba[n - 1])), true);
-    let (qb, bb) = pass(gyr, acc, dt, true, &mut fb, None);
-    let mut fc = make(opts, Some((qb[0], bb[0])), true);
-    let (qc, bc) = pass(gyr, acc, dt, false, &mut fc, None);
-    // the smoothed bias trajectory: both directions' estimates, averaged
-    let bs: Vec<Vec3> = bb.iter().zip(&bc).map(|(x, y)| (x + y) * 0.5).collect();
-    // 4–5: tilt forwards and backwards with that bias imposed
-    let mut fd = make(opts, Some((qb[0], bs[0])), false);
-    let (forward, _) = pass(gyr, acc, dt, false, &mut fd, Some(&bs));
-    let mut fe = make(opts, Some((qc[n - 1], -bs[n - 1])), false);
-    let (backward, _) = pass(gyr, acc, dt, true, &mut fe, Some(&bs));
-    let combined: Vec<Attitude> = forward
-        .iter()
-        .zip(&backward)
-        .map(|(qf, qb)| {
-            let (uf, ub) = (up_in_body(qf), up_in_body(qb));
-            let um = uf + ub;
-            if um.norm_squared() < 1e-12 {
-                return *qf;
-            }
-            // turn the forward attitude (in the body) so that its up vector becomes the mean
-            let corr =
-                UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
-            qf * corr
-        })
-        .collect();
-    match &opts.refine {
-        Some(b) => refine_bounded_motion(&combined, acc, dt, b, opts.params.gravity_m_s2),
-        None => combined,
+    run(1, false, &mut fa, None, &mut |_, _| {});
+    let (qa, ba) = (fa.filter().attitude(), fa.filter().gyro_bias());
+    let mut fb = make(opts, Some((qa, -ba)), true);
+    // the smoothed bias trajectory, built in place: first the backward
+    // pass's estimate, then its mean with the second forward pass's
+    let mut bs = vec![Vec3::zeros(); n];
+    run(2, true, &mut fb, None, &mut |i, f| {
+        bs[i] = f.filter().gyro_bias() * -1.0
+    });
+    let qb = fb.filter().attitude();
+    let mut fc = make(opts, Some((qb, bs[0])), true);
+    run(3, false, &mut fc, None, &mut |i, f| {
+        bs[i] = (bs[i] + f.filter().gyro_bias()) * 0.5
+    });
+    let qc = fc.filter().attitude();
+    // 4–5: tilt forwards and backwards with that bias imposed; the backward
+    // pass combines as it goes, over the forward attitudes
+    let mut q = vec![Attitude::identity(); n];
+    let mut fd = make(opts, Some((qb, bs[0])), false);
+    run(4, false, &mut fd, Some(&bs), &mut |i, f| {
+        q[i] = f.filter().attitude()
+    });
+    let mut fe = make(opts, Some((qc, -bs[n - 1])), false);
+    run(5, true, &mut fe, Some(&bs), &mut |i, f| {
+        q[i] = combine(&q[i], &f.filter().attitude())
+    });
+    drop((bs, t));
+    if let Some(b) = &opts.refine {
+        refine_in_place(&mut q, acc, dt, b, opts.params.gravity_m_s2, progress);
     }
+    q
+}
+
+/// The forward attitude turned (in the body) so that its up vector becomes
+/// the mean of the forward and backward up vectors (equal weights).
+fn combine(qf: &Attitude, qb: &Attitude) -> Attitude {
+    let (uf, ub) = (up_in_body(qf), up_in_body(qb));
+    let um = uf + ub;
+    if um.norm_squared() < 1e-12 {
+        return *qf;
+    }
+    let corr = UnitQuaternion::rotation_between(&um, &uf).unwrap_or_else(UnitQuaternion::identity);
+    qf * corr
 }
 
 /// Whole-record refinement of a tilt estimate from bounded motion.
@@ -300,7 +408,9 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
 ///
 /// solved exactly by a Kalman filter and a Rauch–Tung–Striebel smoother
 /// (Rauch, Tung, Striebel, AIAA J. 3(8), 1965); the smoothed d is applied as
-/// the navigation-frame correction exp(δ) ⊗ q̂. O(n) time and memory.
+/// the navigation-frame correction exp(δ) ⊗ q̂. O(n) time and memory (72
+/// bytes a sample: the filtered state and the upper triangle of its covariance;
+/// the predictions are recomputed in the backward pass).
 pub fn refine_bounded_motion(
     q: &[Attitude],
     acc: &[Vec3],
@@ -308,69 +418,112 @@ pub fn refine_bounded_motion(
     b: &BoundedMotion,
     g: f64,
 ) -> Vec<Attitude> {
+    let mut out = q.to_vec();
+    refine_in_place(&mut out, acc, dt, b, g, None);
+    out
+}
+
+/// [`refine_bounded_motion`] writing over `q`.
+fn refine_in_place(
+    q: &mut [Attitude],
+    acc: &[Vec3],
+    dt: &[f64],
+    b: &BoundedMotion,
+    g: f64,
+    mut progress: Option<Progress<'_>>,
+) {
     let n = q.len().min(acc.len()).min(dt.len());
     if n < 2 {
-        return q.to_vec();
+        return;
     }
-    // horizontal specific force in ENU; unusable samples contribute nothing
-    let mut fe = Vec::with_capacity(n);
-    let mut fnn = Vec::with_capacity(n);
-    let mut h = Vec::with_capacity(n);
-    for k in 0..n {
-        let f = q[k] * acc[k];
-        let ok = f.iter().all(|v| v.is_finite());
-        fe.push(if ok { f.x } else { 0.0 });
-        fnn.push(if ok { f.y } else { 0.0 });
-        h.push(if dt[k].is_finite() && dt[k] > 0.0 {
+    let q = &mut q[..n];
+    let h = |k: usize| {
+        if dt[k].is_finite() && dt[k] > 0.0 {
             dt[k]
         } else {
             0.0
-        });
-    }
+        }
+    };
+    // horizontal specific force in ENU; unusable samples contribute nothing
+    let force = |q: &[Attitude], k: usize, axis: usize| {
+        let f = q[k] * acc[k];
+        if f.iter().all(|v| v.is_finite()) {
+            f[axis]
+        } else {
+            0.0
+        }
+    };
     // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E)
-    let d_n = rts_axis(&fe, &h, b, g);
-    let d_e_neg = rts_axis(&fnn, &h, b, g);
-    (0..n)
-        .map(|k| {
-            let c = Vec3::new(-d_e_neg[k], d_n[k], 0.0);
-            if c.iter().all(|v| v.is_finite()) {
-                UnitQuaternion::from_scaled_axis(c) * q[k]
-            } else {
-                q[k]
-            }
-        })
-        .chain(q[n..].iter().copied())
-        .collect()
+    let d_n = rts_axis(n, |k| force(q, k, 0), h, b, g);
+    tick(&mut progress, Stage::Refine, n / 2, n);
+    let d_e_neg = rts_axis(n, |k| force(q, k, 1), h, b, g);
+    for k in 0..n {
+        let c = Vec3::new(-d_e_neg[k], d_n[k], 0.0);
+        if c.iter().all(|v| v.is_finite()) {
+            q[k] = UnitQuaternion::from_scaled_axis(c) * q[k];
+        }
+    }
+    tick(&mut progress, Stage::Refine, n, n);
+}
+
+/// The state transition of [`rts_axis`] over an interval `hk`.
+fn transition(hk: f64, b: &BoundedMotion, g: f64) -> (nalgebra::Matrix3<f64>, f64) {
+    let phi = (-hk / b.tilt_tau_s).exp();
+    let fm = nalgebra::Matrix3::new(phi, 0.0, 0.0, g * hk, 1.0, 0.0, 0.0, hk, 1.0);
+    (fm, phi)
 }
 
 /// Kalman filter + RTS smoother of one horizontal axis of [`refine_bounded_motion`];
-/// returns the smoothed tilt-error state d at every sample.
-fn rts_axis(f: &[f64], h: &[f64], b: &BoundedMotion, g: f64) -> Vec<f64> {
+/// `f(k)` is the horizontal specific force and `h(k)` the interval ending at
+/// sample k; returns the smoothed tilt-error state d at every sample.
+///
+/// The forward pass stores only the filtered state and the upper triangle of
+/// its (symmetrised) covariance; the backward pass recomputes each prediction
+/// from them, which is the same arithmetic as the forward pass's.
+fn rts_axis(
+    n: usize,
+    f: impl Fn(usize) -> f64,
+    h: impl Fn(usize) -> f64,
+    b: &BoundedMotion,
+    g: f64,
+) -> Vec<f64> {
     use nalgebra::{Matrix3, Vector3 as V3};
-    let n = f.len();
     let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
     let (rv, rp) = (b.speed_m_s * b.speed_m_s, b.range_m * b.range_m);
+    let noise = |phi: f64| {
+        let mut q = Matrix3::zeros();
+        q[(0, 0)] = sd2 * (1.0 - phi * phi);
+        q
+    };
+    let pack = |x: &V3<f64>, p: &Matrix3<f64>| {
+        [
+            x[0],
+            x[1],
+            x[2],
+            p[(0, 0)],
+            p[(0, 1)],
+            p[(0, 2)],
+            p[(1, 1)],
+            p[(1, 2)],
+            p[(2, 2)],
+        ]
+    };
+    let unpack = |s: &[f64; 9]| {
+        let x = V3::new(s[0], s[1], s[2]);
+        let p = Matrix3::new(s[3], s[4], s[5], s[4], s[6], s[7], s[5], s[7], s[8]);
+        (x, p)
+    };
     let mut x = V3::new(0.0, 0.0, 0.0);
     let mut p = Matrix3::from_diagonal(&V3::new(sd2, rv, rp));
-    let mut xs_pred = Vec::with_capacity(n);
-    let mut ps_pred = Vec::with_capacity(n);
-    let mut xs = Vec::with_capacity(n);
-    let mut ps = Vec::with_capacity(n);
-    let mut fs = Vec::with_capacity(n);
+    let mut filtered: Vec<[f64; 9]> = Vec::with_capacity(n);
     let mut since = 0.0;
     let period = 1.0 / b.constraint_rate_hz;
     for k in 0..n {
         // predict over the interval ending at sample k
-        let hk = h[k];
-        let phi = (-hk / b.tilt_tau_s).exp();
-        let fm = Matrix3::new(phi, 0.0, 0.0, g * hk, 1.0, 0.0, 0.0, hk, 1.0);
-        x = fm * x + V3::new(0.0, f[k] * hk, 0.0);
-        let mut q = Matrix3::zeros();
-        q[(0, 0)] = sd2 * (1.0 - phi * phi);
-        p = fm * p * fm.transpose() + q;
-        xs_pred.push(x);
-        ps_pred.push(p);
-        fs.push(fm);
+        let hk = h(k);
+        let (fm, phi) = transition(hk, b, g);
+        x = fm * x + V3::new(0.0, f(k) * hk, 0.0);
+        p = fm * p * fm.transpose() + noise(phi);
         // velocity and position bounds at the constraint rate
         since += hk;
         if since >= period {
@@ -382,27 +535,26 @@ fn rts_axis(f: &[f64], h: &[f64], b: &BoundedMotion, g: f64) -> Vec<f64> {
                 x += kgain * innov;
                 p -= kgain * p.row(i);
             }
-            p = (p + p.transpose()) * 0.5;
         }
-        xs.push(x);
-        ps.push(p);
+        p = (p + p.transpose()) * 0.5;
+        filtered.push(pack(&x, &p));
     }
     // Rauch–Tung–Striebel backward pass
     let mut out = vec![0.0; n];
-    let mut xsm = xs[n - 1];
-    let mut psm = ps[n - 1];
+    let (mut xsm, _) = unpack(&filtered[n - 1]);
     out[n - 1] = xsm[0];
     for k in (0..n - 1).rev() {
-        let pp = ps_pred[k + 1];
+        let (xk, pk) = unpack(&filtered[k]);
+        let (fm, phi) = transition(h(k + 1), b, g);
+        let x_pred = fm * xk + V3::new(0.0, f(k + 1) * h(k + 1), 0.0);
+        let pp = fm * pk * fm.transpose() + noise(phi);
         let c = match pp.try_inverse() {
-            Some(inv) => ps[k] * fs[k + 1].transpose() * inv,
+            Some(inv) => pk * fm.transpose() * inv,
             None => Matrix3::zeros(),
         };
-        xsm = xs[k] + c * (xsm - xs_pred[k + 1]);
-        psm = ps[k] + c * (psm - pp) * c.transpose();
+        xsm = xk + c * (xsm - x_pred);
         out[k] = xsm[0];
     }
-    let _ = psm;
     out
 }
 
@@ -442,7 +594,17 @@ mod tests {
         let opts = SmoothOptions::default();
         let off = smooth(&g, &a, &d, &opts);
         let mut f = make(&SmoothOptions::default(), None, true);
-        let (on, _) = pass(&g, &a, &d, false, &mut f, None);
+        let mut on = vec![Attitude::identity(); g.len()];
+        pass(
+            &g,
+            &a,
+            &running_time(&d),
+            &d,
+            false,
+            &mut f,
+            None,
+            |i, f| on[i] = f.filter().attitude(),
+        );
         let rms = |e: &[Attitude]| {
             // scored after the machine's initial 10-s rest
             let skip = 2000;

@@ -92,7 +92,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let stdin = a.input.as_os_str() == "-";
     let to_file = a.output.as_ref().filter(|p| p.as_os_str() != "-");
 
+    let bar = super::progress_spinner("fuse");
+    let show = |p| super::show_fuse_progress(&bar, p);
     let fuse_opts = FuseOptions {
+        progress: Some(&show),
         strict: a.strict,
         calibration: calibration.as_ref(),
         // a live source or a person watching: every row as soon as it is known
@@ -108,6 +111,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let mut reader = ImuCsvReader::from_path(&a.input, &opts)?;
         write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?
     };
+    bar.finish_and_clear();
     if let (Some(path), Some(trace)) = (&a.plot, &trace) {
         let title = format!("{} — {}", a.input.display(), config.label());
         trace.plot(path, &title)?;

@@ -12,6 +12,39 @@ pub mod testbench;
 
 use clino::io::{AccelUnit, GyroUnit, ReadOptions};
 
+/// A progress indicator on stderr for a long command. indicatif draws
+/// nothing when stderr is not a terminal, so logs and pipes stay clean.
+pub fn progress_spinner(what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// The fuse progress drawn on `bar`: a spinner while reading, then a bar over
+/// the offline smoother's seven stages.
+pub fn show_fuse_progress(bar: &indicatif::ProgressBar, p: clino::fusion::FuseProgress) {
+    use clino::fusion::FuseProgress;
+    match p {
+        FuseProgress::Read(rows) => {
+            bar.set_message(format!("read {rows} rows"));
+            bar.tick();
+        }
+        FuseProgress::Smooth(stage, k, n) => {
+            if bar.length() != Some(7 * n as u64) {
+                bar.set_style(
+                    indicatif::ProgressStyle::with_template(
+                        "{msg} [{bar:40}] {percent}% ({eta} left)",
+                    )
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                );
+                bar.set_length(7 * n as u64);
+            }
+            bar.set_message(format!("offline smoothing ({stage:?})"));
+            bar.set_position(stage.index() * n as u64 + k as u64);
+        }
+    }
+}
+
 /// How to read a recording (shared by `fuse` and `eval`).
 #[derive(clap::Args, Debug)]
 pub struct ReadArgs {
