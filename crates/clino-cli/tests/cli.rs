@@ -378,3 +378,20 @@ fn allan_explains_a_constant_channel() {
     let o = clino(&["allan", &input]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("gyr_z"));
 }
+
+#[test]
+fn a_negative_gain_is_a_value_with_a_range_error_not_an_unknown_flag() {
+    let d = scratch("neg-gain");
+    let input = write(
+        &d,
+        "in.csv",
+        &format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n"),
+    );
+    let o = clino(&["fuse", &input, "-f", "complementary", "--k", "-0.5"]);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    // the range error names the parameter and its range, without a unit "1"
+    assert!(e.contains("complementary:k: '-0.5'"), "{e}");
+    assert!(e.contains("[0, 1])"), "{e}");
+    assert!(!e.contains("unexpected argument"), "{e}");
+}

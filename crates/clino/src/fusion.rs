@@ -102,7 +102,13 @@ fn describe(ty: &ParamType, unit: &str) -> String {
             } else {
                 format!("{max}]")
             };
-            format!("a number in {lo}{min}, {hi} {unit}")
+            // a dimensionless parameter (unit "1") has no unit to print
+            let unit = if unit == "1" {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
+            format!("a number in {lo}{min}, {hi}{unit}")
         }
         ParamType::Bool => "true or false".to_string(),
         ParamType::Integrator => "exact or rectangle".to_string(),

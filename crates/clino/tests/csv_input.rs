@@ -177,6 +177,20 @@ fn non_numeric_cell_names_line_and_column() {
 }
 
 #[test]
+fn a_huge_bad_cell_is_quoted_short() {
+    // a corrupted 5 MB cell after two blank lines: the line is right and the
+    // message quotes 60 characters and says how long the cell was
+    let big = "x".repeat(5_000_000);
+    let e = err(&format!(
+        "{HEAD}0,0,0,0,0,0,9.8\n\n\n0.01,{big},0,0,0,0,9.8\n"
+    ));
+    assert_at(&e, ErrorKind::Parse, 5, Some("gyr_x_rad_s"));
+    let msg = e.to_string();
+    assert!(msg.len() < 300, "{} bytes: {}", msg.len(), &msg[..300]);
+    assert!(msg.contains("(5000000 bytes)"), "{msg}");
+}
+
+#[test]
 fn wrong_number_of_fields_is_an_error() {
     let e = err(&format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,0,0,0\n"));
     assert_at(&e, ErrorKind::Parse, 3, Some("acc_z_m_s2"));

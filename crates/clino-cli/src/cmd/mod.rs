@@ -73,26 +73,27 @@ impl ReadArgs {
 
 /// Filter parameters given as flags (each applies to the filters that read it;
 /// one that no chosen filter reads is an error). Every parameter can also be
-/// given in the `--filter NAME:KEY=VALUE,…` form.
+/// given in the `--filter NAME:KEY=VALUE,…` form. A negative value is taken
+/// as a value (`--k -0.5`), so that its range error names the parameter.
 #[derive(clap::Args, Debug)]
 pub struct GainArgs {
     /// Complementary filter blend per sample, 0..1 (time constant −Ts/ln(1−k)); default 0.05.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub k: Option<String>,
     /// Mahony proportional gain, rad/s per unit error; default 1.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub kp: Option<String>,
     /// Mahony integral gain, rad/s² per unit error; default 0.02.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub ki: Option<String>,
     /// Madgwick gradient step, rad/s; default 0.1.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub beta: Option<String>,
     /// Gyro integration step of poisson/complementary: exact (rotation vector) or rectangle (first order).
     #[arg(long, value_name = "exact|rectangle")]
     pub integrator: Option<String>,
     /// Dynamic filter: base loop bandwidth, rad/s (1/bandwidth is the accelerometer's time constant in slow motion); default 0.15.
-    #[arg(long, value_name = "RAD_S")]
+    #[arg(long, value_name = "RAD_S", allow_hyphen_values = true)]
     pub bandwidth: Option<String>,
 }
 

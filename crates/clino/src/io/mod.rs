@@ -34,4 +34,4 @@ pub use convert::convert;
 pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
-pub use table::TableReader;
+pub use table::{TableReader, quote_cell};

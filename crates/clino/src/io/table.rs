@@ -151,6 +151,21 @@ impl TableReader<std::fs::File> {
     }
 }
 
+/// Longest part of a cell quoted in an error message, in characters.
+pub const QUOTE_MAX_CHARS: usize = 60;
+
+/// A cell as an error message quotes it: trimmed, lossy UTF-8, in quotes,
+/// cut to [`QUOTE_MAX_CHARS`] characters with its length in bytes when longer
+/// (a corrupted 5 MB cell must not become a 5 MB message).
+pub fn quote_cell(cell: &[u8]) -> String {
+    let text = String::from_utf8_lossy(cell.trim_ascii());
+    if text.chars().count() <= QUOTE_MAX_CHARS {
+        return format!("'{text}'");
+    }
+    let head: String = text.chars().take(QUOTE_MAX_CHARS).collect();
+    format!("'{head}…' ({} bytes)", cell.len())
+}
+
 /// Parse one numeric cell: empty → NaN; `None` when it is not a number.
 pub(crate) fn parse_f64(cell: &[u8]) -> Option<f64> {
     let cell = cell.trim_ascii();
@@ -362,7 +377,11 @@ impl<R: Read> TableReader<R> {
             return match p.cell(i) {
                 Cell::Num(x) => Ok(x),
                 Cell::Text(t) => parse_f64(t.as_bytes()).ok_or_else(|| {
-                    self.err_at(i, ErrorKind::Parse, format!("not a number: '{t}'"))
+                    self.err_at(
+                        i,
+                        ErrorKind::Parse,
+                        format!("not a number: {}", quote_cell(t.as_bytes())),
+                    )
                 }),
                 Cell::Other(what) => {
                     Err(self.err_at(i, ErrorKind::Parse, format!("not a number: {what}")))
@@ -374,10 +393,7 @@ impl<R: Read> TableReader<R> {
             self.err_at(
                 i,
                 ErrorKind::Parse,
-                format!(
-                    "not a number: '{}'",
-                    String::from_utf8_lossy(raw.trim_ascii())
-                ),
+                format!("not a number: {}", quote_cell(raw)),
             )
         })
     }
@@ -391,7 +407,10 @@ impl<R: Read> TableReader<R> {
             Err(self.err_at(
                 i,
                 ErrorKind::InvalidInput,
-                format!("value must be a finite number, got '{}'", self.text(i)),
+                format!(
+                    "value must be a finite number, got {}",
+                    quote_cell(self.text(i).as_bytes())
+                ),
             ))
         }
     }
