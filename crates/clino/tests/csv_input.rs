@@ -340,3 +340,34 @@ mod round_trip {
         }
     }
 }
+
+#[test]
+fn gaps_in_time_are_reported_with_size_and_place() {
+    // 100 Hz with jitter of ±20 %, then a 0.5 s hole before line 2 + 1 + 40
+    let mut text = String::from(HEAD);
+    let mut t = 0.0;
+    for k in 0..80 {
+        if k == 40 {
+            t += 0.5;
+        } else if k > 0 {
+            t += 0.01 * (1.0 + 0.2 * ((k % 3) as f64 - 1.0));
+        }
+        text.push_str(&format!("{t},0,0,0,0,0,9.8\n"));
+    }
+    let mut r = ImuCsvReader::new(text.as_bytes(), "rec.csv", &ReadOptions::default()).unwrap();
+    while r.next_row().unwrap().is_some() {}
+    let g = r.gaps();
+    assert_eq!(g.count, 1, "{g:?}");
+    let l = g.largest.unwrap();
+    assert_eq!(l.line, 42);
+    assert!((l.size_s - 0.5).abs() < 1e-12);
+    assert!((g.nominal_period_s.unwrap() - 0.01).abs() < 1e-12);
+    let d = g.describe().unwrap();
+    assert!(d.contains("1 gap in time") && d.contains("line 42"), "{d}");
+    // without the hole: no gap (jitter stays below five periods)
+    let steady: String = text.lines().take(41).map(|l| format!("{l}\n")).collect();
+    let mut r = ImuCsvReader::new(steady.as_bytes(), "rec.csv", &ReadOptions::default()).unwrap();
+    while r.next_row().unwrap().is_some() {}
+    assert_eq!(r.gaps().count, 0);
+    assert!(r.gaps().describe().is_none());
+}

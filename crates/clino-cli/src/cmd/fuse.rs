@@ -72,6 +72,34 @@ fn write_out<R: std::io::Read>(
     Ok(rep)
 }
 
+/// The filter configuration the arguments name (checked before any file is touched).
+fn filter_config(a: &Args) -> anyhow::Result<FilterConfig> {
+    let mut spec = [parse_spec(&a.filter)?];
+    apply_params(&mut spec, &a.gains.params())?;
+    let config = FilterConfig::from_spec(spec[0])
+        .with_lever_arm(a.stages.lever_arm()?)
+        .with_offline(a.stages.offline);
+    config.validate()?;
+    Ok(config)
+}
+
+/// The one-line summary on stderr.
+fn summary(rep: &FuseReport, label: &str) -> String {
+    format!(
+        "clino fuse: {} rows with {label}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{})",
+        rep.counts.samples,
+        rep.counts.initialised,
+        rep.counts.fused,
+        rep.counts.gyro_only,
+        rep.counts.waiting,
+        rep.counts.dropouts,
+        rep.counts.saturated,
+        rep.first_dropout_line
+            .map(|l| format!(", first at line {l}"))
+            .unwrap_or_default()
+    )
+}
+
 /// Run `clino fuse`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     // fuse uses time, gyro and accelerometer only (and temperature for a calibration)
@@ -79,19 +107,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         imu_only: a.calibration.is_none(),
         ..a.read.options()?
     };
-    let mut spec = [parse_spec(&a.filter)?];
-    apply_params(&mut spec, &a.gains.params())?;
-    let config = FilterConfig::from_spec(spec[0])
-        .with_lever_arm(a.stages.lever_arm()?)
-        .with_offline(a.stages.offline);
-    config.validate()?; // check the parameters before touching any file
+    let config = filter_config(&a)?;
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
         None => None,
     };
     let stdin = a.input.as_os_str() == "-";
     let to_file = a.output.as_ref().filter(|p| p.as_os_str() != "-");
-
     let bar = super::progress_spinner("fuse");
     let show = |p| super::show_fuse_progress(&bar, p);
     let fuse_opts = FuseOptions {
@@ -102,34 +124,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         flush_rows: stdin || (to_file.is_none() && std::io::stdout().is_terminal()),
     };
     let mut trace = a.plot.as_ref().map(|_| TiltTrace::new(20_000));
-    let rep = if stdin {
+    let (rep, gaps) = if stdin {
         let input: Box<dyn std::io::Read> = Box::new(std::io::stdin().lock());
         let mut reader = ImuCsvReader::new(input, "<stdin>", &opts)?;
-        write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?
+        let rep = write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?;
+        (rep, reader.gaps().describe())
     } else {
         // CSV or Parquet, by the extension
         let mut reader = ImuCsvReader::from_path(&a.input, &opts)?;
-        write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?
+        let rep = write_out(&a, &mut reader, &config, &fuse_opts, trace.as_mut())?;
+        (rep, reader.gaps().describe())
     };
     bar.finish_and_clear();
+    if let Some(g) = gaps {
+        eprintln!("clino fuse: warning: {}: {g}", a.input.display());
+    }
     if let (Some(path), Some(trace)) = (&a.plot, &trace) {
         let title = format!("{} — {}", a.input.display(), config.label());
         trace.plot(path, &title)?;
         eprintln!("clino fuse: plot written to {}", path.display());
     }
-    eprintln!(
-        "clino fuse: {} rows with {}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{})",
-        rep.counts.samples,
-        config.label(),
-        rep.counts.initialised,
-        rep.counts.fused,
-        rep.counts.gyro_only,
-        rep.counts.waiting,
-        rep.counts.dropouts,
-        rep.counts.saturated,
-        rep.first_dropout_line
-            .map(|l| format!(", first at line {l}"))
-            .unwrap_or_default()
-    );
+    eprintln!("{}", summary(&rep, &config.label()));
     Ok(())
 }

@@ -190,7 +190,86 @@ pub struct ImuCsvReader<R: Read> {
     acc_scale: f64,
     dt_rate: Option<f64>,
     last_t: Option<f64>,
+    gaps: TimeGaps,
     failed: bool,
+}
+
+/// How many intervals set the nominal sample period of a recording.
+const NOMINAL_INTERVALS: usize = 64;
+
+/// An interval this many times the nominal period is a gap in time.
+///
+/// Five periods: sample-clock jitter and the odd late sample of a USB or
+/// serial logger stay well below it; a lost packet of several samples, a
+/// paused logger or two recordings joined together lie above it.
+pub const GAP_FACTOR: f64 = 5.0;
+
+/// One gap in time: where it ends and how long it is.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct TimeGap {
+    /// 1-based line of the row after the gap.
+    pub line: u64,
+    /// Time of the row before the gap, s.
+    pub after_t_s: f64,
+    /// Length of the interval, s.
+    pub size_s: f64,
+}
+
+/// The gaps in time of a recording ([`GAP_FACTOR`] × the nominal period,
+/// the median of its first 64 intervals): how many, the first and the largest.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct TimeGaps {
+    /// The nominal sample period, s (`None` before three intervals were seen).
+    pub nominal_period_s: Option<f64>,
+    /// Number of gaps.
+    pub count: u64,
+    /// The first gap.
+    pub first: Option<TimeGap>,
+    /// The largest gap.
+    pub largest: Option<TimeGap>,
+    #[serde(skip)]
+    early: Vec<f64>,
+}
+
+impl TimeGaps {
+    /// Look at the interval `dt` that ends at `line`.
+    fn observe(&mut self, line: u64, after_t_s: f64, dt: f64) {
+        if self.early.len() < NOMINAL_INTERVALS {
+            self.early.push(dt);
+            let mut v = self.early.clone();
+            v.sort_by(f64::total_cmp);
+            self.nominal_period_s = (v.len() >= 3).then(|| v[v.len() / 2]);
+        }
+        let Some(nominal) = self.nominal_period_s else {
+            return;
+        };
+        if dt > GAP_FACTOR * nominal {
+            let g = TimeGap {
+                line,
+                after_t_s,
+                size_s: dt,
+            };
+            self.count += 1;
+            self.first.get_or_insert(g);
+            if self.largest.is_none_or(|l| dt > l.size_s) {
+                self.largest = Some(g);
+            }
+        }
+    }
+
+    /// A one-line description for a summary, `None` without gaps.
+    pub fn describe(&self) -> Option<String> {
+        let l = self.largest?;
+        Some(format!(
+            "{} gap{} in time (more than {GAP_FACTOR} × the {:.4} s period); the largest is {:.4} s after t = {} s, before line {}",
+            self.count,
+            if self.count == 1 { "" } else { "s" },
+            self.nominal_period_s.unwrap_or(f64::NAN),
+            l.size_s,
+            l.after_t_s,
+            l.line
+        ))
+    }
 }
 
 impl ImuCsvReader<File> {
@@ -239,6 +318,7 @@ impl<R: Read> ImuCsvReader<R> {
             },
             dt_rate: opts.rate_hz.map(|r| 1.0 / r),
             last_t: None,
+            gaps: TimeGaps::default(),
             failed: false,
         };
         me.cols = me.find_columns(opts)?;
@@ -263,6 +343,11 @@ impl<R: Read> ImuCsvReader<R> {
     /// The file name used in errors.
     pub fn file(&self) -> &Path {
         self.table.file()
+    }
+
+    /// The gaps in time seen so far ([`TimeGaps`]).
+    pub fn gaps(&self) -> &TimeGaps {
+        &self.gaps
     }
 
     /// Number of data rows returned so far.
@@ -508,6 +593,9 @@ impl<R: Read> ImuCsvReader<R> {
             }
             None => None,
         };
+        if let Some(prev) = self.last_t {
+            self.gaps.observe(self.table.line(), prev, t_s - prev);
+        }
         self.last_t = Some(t_s);
         Ok(Some(ImuRow {
             line: self.table.line(),

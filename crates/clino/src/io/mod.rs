@@ -31,7 +31,9 @@ mod table;
 
 pub use atomic::AtomicFile;
 pub use convert::convert;
-pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
+pub use csv_in::{
+    AccelUnit, GAP_FACTOR, GyroUnit, ImuCsvReader, ImuRow, ReadOptions, TimeGap, TimeGaps,
+};
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
 pub use table::{TableReader, quote_cell};
