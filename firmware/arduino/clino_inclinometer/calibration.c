@@ -97,22 +97,22 @@ void calib_set_ranges(clino_calib_t *c, uint8_t accel_fs_g, uint16_t gyro_fs_dps
     c->gyr_scale = mpu_gyro_lsb_per_dps(CALIB_GYRO_FS_DPS) / mpu_gyro_lsb_per_dps(gyro_fs_dps);
 }
 
-static void apply(const float M[3][3], const float off[3], float s, const int16_t raw[3],
+static void apply(const float M[3][3], const float off[3], float s, const float u[3],
                   float out[3])
 {
-    float d0 = (float)raw[0] * s - off[0];
-    float d1 = (float)raw[1] * s - off[1];
-    float d2 = (float)raw[2] * s - off[2];
+    float d0 = u[0] * s - off[0];
+    float d1 = u[1] * s - off[1];
+    float d2 = u[2] * s - off[2];
     for (int i = 0; i < 3; i++)
         out[i] = M[i][0] * d0 + M[i][1] * d1 + M[i][2] * d2;
 }
 
-void calib_acc(const clino_calib_t *c, const int16_t raw[3], float out[3])
+void calib_acc(const clino_calib_t *c, const float u[3], float out[3])
 {
-    apply(c->Kinv, c->Ua0, c->acc_scale, raw, out);
+    apply(c->Kinv, c->Ua0, c->acc_scale, u, out);
 }
 
-void calib_gyr(const clino_calib_t *c, const int16_t raw[3], float out[3])
+void calib_gyr(const clino_calib_t *c, const float u[3], float out[3])
 {
-    apply(c->Rinv, c->U0, c->gyr_scale, raw, out);
+    apply(c->Rinv, c->U0, c->gyr_scale, u, out);
 }

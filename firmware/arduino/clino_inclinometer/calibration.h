@@ -50,8 +50,9 @@ typedef struct {
 int calib_init(clino_calib_t *c, const clino_calib_matrices_t *m);
 /* Set the count rescaling for the ranges in use (datasheet sensitivities). */
 void calib_set_ranges(clino_calib_t *c, uint8_t accel_fs_g, uint16_t gyro_fs_dps);
-void calib_acc(const clino_calib_t *c, const int16_t raw[3], float out[3]);
-void calib_gyr(const clino_calib_t *c, const int16_t raw[3], float out[3]);
+/* u: raw counts (or a mean of raw counts) at the ranges in use. */
+void calib_acc(const clino_calib_t *c, const float u[3], float out[3]);
+void calib_gyr(const clino_calib_t *c, const float u[3], float out[3]);
 
 /* MPU6050 datasheet sensitivities (rev 3.4): LSB per g, LSB per deg/s. */
 float mpu_accel_lsb_per_g(uint8_t fs_g);

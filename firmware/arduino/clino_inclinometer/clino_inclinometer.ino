@@ -5,23 +5,28 @@
  *
  *  - Timer2 ticks at 2 kHz; a phase accumulator turns the tick into the sample
  *    clock (rate_hz, exact mean rate for any integer rate, exact period when
- *    rate divides 2000). At each sample instant the tick interrupt takes the
- *    micros() stamp and starts the 14-byte MPU6050 burst read on the TWI; the
- *    TWI interrupt completes it. A sample instant whose read cannot start
+ *    rate divides 2000). At each sample instant the tick interrupt stamps the
+ *    sample with the tick's own time (t_us = ticks * 500 us since the clock
+ *    started at boot, wrapping at 2^32 us like micros(); exact, no interrupt
+ *    latency in it) and starts the 14-byte MPU6050 burst read on the TWI;
+ *    the TWI interrupt completes it. A sample instant whose read cannot start
  *    (bus still busy) or whose result the main loop has not taken yet is
  *    counted as lost and still advances seq, so the host sees the gap.
  *  - The main loop frames each sample (SAMPLE, COBS + CRC) into the serial
  *    transmit buffer when streaming (a frame that does not fit is dropped
  *    whole, never blocks), runs the source's instrument (calibration eqs 1-2,
- *    Poisson rectangles eq 3-4, complementary filter eq 5, k = 0.05) and sets
- *    the dials on pins 9 and 10, unless the host sent dial angles in the last
- *    2 s (SET_DIALS).
+ *    Poisson rectangles eq 3-4, complementary filter eq 5, k = 0.05; stepped
+ *    at no more than 100 Hz, see filter.h) and sets the dials on pins 9 and
+ *    10, unless the host sent dial angles in the last 2 s (SET_DIALS).
  *  - Host commands (REQUEST_CONFIG, SET_RATE, SET_RANGES, START, STOP,
  *    SET_DIALS) are answered by an ACK; CONFIG follows at boot, on
  *    REQUEST_CONFIG and after every accepted SET_* command.
- *  - Between samples the CPU sleeps (idle mode). Pin 8 (PB0) is high while
+ *  - Between samples the CPU sleeps (idle mode). Pin 4 (PD4) is high while
  *    the main loop works on a sample and pin 7 (PD7) while the filter runs:
- *    test points for the cycle budget (firmware/simavr measures them).
+ *    test points for the cycle budget (firmware/simavr measures them). They
+ *    are on port D so that no read-modify-write touches port B, whose PB1
+ *    and PB2 belong to Timer1 (simavr 1.6 lets a PORTB write override the
+ *    compare outputs; the real chip does not).
  */
 #include <Arduino.h>
 #include <avr/interrupt.h>
@@ -50,6 +55,7 @@
 /* ---- state shared with the interrupts ---- */
 static volatile uint16_t rate_hz = DEFAULT_RATE_HZ;
 static volatile uint16_t tick_acc;
+static volatile uint32_t tick_count; /* 2 kHz ticks since boot */
 static volatile uint8_t sampling_on; /* 0 while the sensor is being set up */
 static volatile uint16_t next_seq;
 static volatile uint32_t lost_samples;
@@ -66,7 +72,7 @@ static volatile uint32_t ready_t_us;
 /* ---- main-loop state ---- */
 static mpu_ranges_t ranges = {4, 500, 3};
 static uint8_t streaming = 1;
-static uint8_t sensor_ok;
+static volatile uint8_t sensor_ok;
 static proto_rx_t rx;
 static clino_calib_t calib;
 static clino_filter_t filt;
@@ -94,19 +100,26 @@ static void on_burst_done(uint8_t ok)
 
 ISR(TIMER2_COMPA_vect)
 {
+    tick_count++;
     tick_acc += rate_hz;
     if (tick_acc < TICK_HZ)
         return;
     tick_acc -= TICK_HZ;
-    if (!sampling_on)
+    if (!sampling_on) {
+        if (sensor_ok) { /* paused for a range change: the host sees a gap */
+            next_seq++;
+            lost_samples++;
+        }
         return;
+    }
     uint16_t seq = next_seq++;
     if (twi_busy()) {
         lost_samples++;
         return;
     }
     burst_seq = seq;
-    burst_t_us = micros();
+    /* the sample instant is the tick, whatever the interrupt latency */
+    burst_t_us = tick_count * (uint32_t)(1000000UL / TICK_HZ);
     if (twi_start_read(MPU_REG_ACCEL_XOUT_H, burst, MPU_BURST_LEN, on_burst_done) != 0)
         lost_samples++;
 }
@@ -190,6 +203,7 @@ static void handle_command(void)
         rate_hz = r;
         tick_acc = 0;
         sei();
+        /* the filter's partial step goes on with the new h */
         send_ack(t, PROTO_ACK_OK);
         send_config();
         break;
@@ -263,6 +277,9 @@ static int16_t to_cdeg(float rad)
     return (int16_t)(c >= 0 ? c + 0.5f : c - 0.5f);
 }
 
+static int32_t sum[6]; /* raw accel xyz, gyro xyz since the last filter step */
+static uint8_t nsum;
+
 static void handle_sample(const uint8_t *b, uint16_t seq, uint32_t t_us)
 {
     int16_t raw[7];
@@ -276,11 +293,28 @@ static void handle_sample(const uint8_t *b, uint16_t seq, uint32_t t_us)
         else
             tx_dropped++;
     }
+    for (uint8_t i = 0; i < 3; i++) {
+        sum[i] += raw[i];
+        sum[3 + i] += raw[4 + i];
+    }
+    nsum++;
+    uint16_t rate = rate_hz;
+    uint8_t dec = filter_decimation(rate);
+    if (nsum < dec && seq % dec != (uint16_t)(dec - 1u))
+        return;
+    /* one filter step on the mean of the samples since the last one */
+    float inv = 1.0f / (float)nsum, u[6];
+    for (uint8_t i = 0; i < 6; i++) {
+        u[i] = (float)sum[i] * inv;
+        sum[i] = 0;
+    }
+    float h = (float)nsum / (float)rate;
+    nsum = 0;
     float acc[3], gyr[3];
-    calib_acc(&calib, raw, acc);
-    calib_gyr(&calib, raw + 4, gyr);
+    calib_acc(&calib, u, acc);
+    calib_gyr(&calib, u + 3, gyr);
     PORTD |= _BV(PD7);
-    filter_update(&filt, gyr, acc, 1.0f / (float)rate_hz);
+    filter_update(&filt, gyr, acc, h);
     float roll, pitch;
     filter_angles(&filt, &roll, &pitch);
     PORTD &= (uint8_t)~_BV(PD7);
@@ -292,7 +326,7 @@ static void handle_sample(const uint8_t *b, uint16_t seq, uint32_t t_us)
 
 void setup()
 {
-    DDRB |= _BV(PB0);
+    DDRD |= _BV(PD4);
     DDRD |= _BV(PD7);
     servo_init();
     Serial.begin(BAUD);
@@ -317,7 +351,7 @@ void loop()
         return;
     }
     if (ready) {
-        PORTB |= _BV(PB0);
+        PORTD |= _BV(PD4);
         uint8_t b[MPU_BURST_LEN];
         cli();
         for (uint8_t i = 0; i < MPU_BURST_LEN; i++)
@@ -327,7 +361,7 @@ void loop()
         ready = 0;
         sei();
         handle_sample(b, seq, t);
-        PORTB &= (uint8_t)~_BV(PB0);
+        PORTD &= (uint8_t)~_BV(PD4);
         return;
     }
     /* Nothing to do: sleep until the next interrupt (tick, TWI, UART, Timer0).

@@ -51,6 +51,20 @@ int filter_align(clino_filter_t *f, const float acc[3]);
  * over step h (s). Aligns on the first call if not aligned yet.
  */
 void filter_update(clino_filter_t *f, const float gyr[3], const float acc[3], float h);
+/*
+ * The instrument steps its filter at no more than FILTER_MAX_HZ: at a sample
+ * rate of 200 Hz or more it averages n = rate / 100 samples (the mean rate over
+ * the step is the rectangle rule's best single value) and steps with
+ * h = n / rate, so k = 0.05 keeps the source's meaning (the accelerometer
+ * weight per 10 ms, time constant h / k = 0.2 s) whatever the stream's rate.
+ * Samples n*j .. n*j + n - 1 (by seq) form one step.
+ */
+#define FILTER_MAX_HZ 100u
+static inline uint8_t filter_decimation(uint16_t rate_hz)
+{
+    return rate_hz >= 2u * FILTER_MAX_HZ ? (uint8_t)(rate_hz / FILTER_MAX_HZ) : 1u;
+}
+
 /* Aerospace roll and pitch (rad) of the current C. */
 void filter_angles(const clino_filter_t *f, float *roll, float *pitch);
 

@@ -23,6 +23,7 @@ static uint8_t *volatile tw_buf;
 static volatile uint8_t tw_len, tw_idx;
 static volatile uint8_t tw_reading; /* 1: read transaction, 0: write */
 static volatile uint8_t tw_in_read_phase;
+static volatile uint8_t tw_reg_sent;
 static void (*volatile tw_done)(uint8_t ok);
 
 void twi_init(void)
@@ -56,12 +57,16 @@ ISR(TWI_vect)
         TWCR = TWCR_GO;
         break;
     case TW_MT_SLA_ACK:
-        TWDR = tw_reg;
-        tw_idx = 0;
-        TWCR = TWCR_GO;
-        break;
     case TW_MT_DATA_ACK:
-        if (tw_reading) {
+        /* A transmitted byte was acknowledged. The driver keeps its own step
+         * rather than trusting 0x18 (address) against 0x28 (data): simavr 1.6
+         * reports 0x28 after SLA+W, and the step is what we sent anyway. */
+        if (!tw_reg_sent) {
+            TWDR = tw_reg;
+            tw_reg_sent = 1;
+            tw_idx = 0;
+            TWCR = TWCR_GO;
+        } else if (tw_reading) {
             tw_in_read_phase = 1;
             TWCR = TWCR_GO | _BV(TWSTA); /* repeated start */
         } else if (tw_idx < tw_len) {
@@ -108,6 +113,7 @@ static int tw_begin(uint8_t reg, uint8_t *buf, uint8_t n, uint8_t reading,
     tw_len = n;
     tw_reading = reading;
     tw_in_read_phase = 0;
+    tw_reg_sent = 0;
     tw_done = done;
     tw_ok = 0;
     TWCR = TWCR_GO | _BV(TWSTA);
