@@ -7,9 +7,10 @@
  * Mapping (documented in README.md, "The live instrument"): a dial angle a in
  * degrees, clamped to [-90, +90], gives the pulse width
  *     w = 1500 us + a * (500 us / 90 deg)        (1000 us .. 2000 us)
- * i.e. 5.556 us per degree, 0.09 deg per timer tick. Positive roll (right
- * side down) and positive pitch (nose up) lengthen the pulse. For a servo that
- * sweeps 180 deg over 500..2500 us set SERVO_US_PER_90DEG to 1000.
+ * i.e. 5.556 us per degree, 0.09 deg per timer tick. Positive roll (about the
+ * chip's +x by the right-hand rule: the +y edge rises) and positive pitch
+ * (about +y: the +x edge dips) lengthen the pulse. For a servo that sweeps
+ * 180 deg over 500..2500 us set SERVO_US_PER_90DEG to 1000.
  */
 #ifndef CLINO_SERVO_H
 #define CLINO_SERVO_H
