@@ -20,8 +20,11 @@
  *      SET_* and REQUEST_CONFIG, STOP silences SAMPLE frames, START restarts
  *      seq at 0, SET_RANGES changes the chip's ranges (and the dials stay
  *      right).
- * and measures the CPU use per sample in simulated cycles (busy = not asleep;
- * main-loop work from the PD4 test point; the filter from PD7).
+ * and measures the CPU use per sample in simulated cycles: busy = not asleep
+ * (the firmware sleeps in idle mode between interrupts); each interrupt from
+ * its vector-table entry to its RETI; the main loop's work on a sample from
+ * the D4 (PD4) test point less the interrupts inside it; the filter step from
+ * D7 (PD7).
  *
  * Usage: harness FIRMWARE.elf OUTDIR [100hz|400hz|all]
  * Writes OUTDIR/<scenario>_capture.bin (every byte the board sent),
@@ -92,6 +95,14 @@ static bytes_t g_tx;
 static pulses_t g_pulse[2]; /* 0: pin 9 roll, 1: pin 10 pitch */
 static probe_t g_probe_main, g_probe_filter;
 static uint64_t g_idle;
+
+/* Interrupt accounting: a vector is entered when the PC lands on its slot in
+ * the vector table and left at its RETI (the firmware does not nest them). */
+#define NVEC 26
+static uint64_t g_isr_cycles[NVEC], g_isr_count[NVEC], g_isr_in_main;
+static const char *const vec_name[NVEC] = {
+    [7] = "TIMER2_COMPA (sample clock)", [16] = "TIMER0_OVF (millis)",
+    [18] = "USART_RX", [19] = "USART_UDRE (transmit)", [24] = "TWI"};
 
 static void *grow(void *p, size_t *cap, size_t n, size_t elem)
 {
@@ -436,6 +447,12 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
 
     uint64_t end = CYC(s->duration);
     int next_cmd = 0;
+    int in_isr = -1;
+    uint64_t isr_start = 0;
+    memset(g_isr_cycles, 0, sizeof g_isr_cycles);
+    memset(g_isr_count, 0, sizeof g_isr_count);
+    g_isr_in_main = 0;
+    uint64_t isr0[NVEC], isr1[NVEC], isrn0[NVEC], isrn1[NVEC], inmain0 = 0, inmain1 = 0;
     while (avr->cycle < end) {
         if (next_cmd < s->ncmds && avr->cycle >= CYC(s->cmds[next_cmd].t)) {
             for (size_t k = 0; k < s->cmds[next_cmd].n; k++)
@@ -446,14 +463,33 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
             idle_at_bw0 = g_idle, played_at_bw0 = mpu.nplayed;
             main_at0 = g_probe_main.total, main_n0 = g_probe_main.count;
             filt_at0 = g_probe_filter.total, filt_n0 = g_probe_filter.count;
+            memcpy(isr0, g_isr_cycles, sizeof isr0);
+            memcpy(isrn0, g_isr_count, sizeof isrn0);
+            inmain0 = g_isr_in_main;
             bw_state = 1;
         } else if (bw_state == 1 && avr->cycle >= CYC(bw1)) {
             idle_at_bw1 = g_idle, played_at_bw1 = mpu.nplayed;
             main_at1 = g_probe_main.total, main_n1 = g_probe_main.count;
             filt_at1 = g_probe_filter.total, filt_n1 = g_probe_filter.count;
+            memcpy(isr1, g_isr_cycles, sizeof isr1);
+            memcpy(isrn1, g_isr_count, sizeof isrn1);
+            inmain1 = g_isr_in_main;
             bw_state = 2;
         }
+        avr_flashaddr_t pc = avr->pc;
+        if (in_isr < 0 && pc > 0 && pc < NVEC * 4 && pc % 4 == 0) {
+            in_isr = (int)(pc / 4);
+            isr_start = avr->cycle;
+        }
+        int reti = in_isr >= 0 && avr->flash[pc] == 0x18 && avr->flash[pc + 1] == 0x95;
         int st = avr_run(avr);
+        if (reti) {
+            g_isr_cycles[in_isr] += avr->cycle - isr_start;
+            g_isr_count[in_isr]++;
+            if (g_probe_main.level)
+                g_isr_in_main += avr->cycle - isr_start;
+            in_isr = -1;
+        }
         if (st == cpu_Done || st == cpu_Crashed) {
             check(0, "the simulated CPU stopped (state %d) at %.6f s", st, avr->cycle / F_CPU);
             break;
@@ -791,18 +827,38 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
         double main_ps = (double)(main_at1 - main_at0) / (double)(main_n1 - main_n0);
         double filt_ps = (double)(filt_at1 - filt_at0) / (double)(filt_n1 - filt_n0);
         double period = F_CPU / s->rate;
-        printf("  CPU per sample at %u Hz over [%.1f, %.1f) s (%zu samples): busy %.0f cycles "
-               "(%.1f %% of the %.0f-cycle period); main-loop work %.0f (max %llu); "
-               "filter + angles %.0f (max %llu); interrupts and the rest %.0f\n",
-               s->rate, bw0, bw1, n, busy_ps, 100.0 * busy_ps / period, period, main_ps,
-               (unsigned long long)g_probe_main.max, filt_ps,
-               (unsigned long long)g_probe_filter.max, busy_ps - main_ps);
+        double isr_all = 0;
+        printf("  CPU per sample at %u Hz over [%.1f, %.1f) s (%zu samples, %.0f cycles each):\n",
+               s->rate, bw0, bw1, n, period);
+        printf("    busy (not asleep)            %8.0f cycles  %5.1f %%\n", busy_ps,
+               100.0 * busy_ps / period);
+        for (int v = 0; v < NVEC; v++) {
+            if (isrn1[v] == isrn0[v])
+                continue;
+            double c = (double)(isr1[v] - isr0[v]) / (double)n;
+            isr_all += c;
+            printf("    ISR %-26s %8.0f cycles  (%.1f calls, %.0f cycles each)\n",
+                   vec_name[v] ? vec_name[v] : "?", c, (double)(isrn1[v] - isrn0[v]) / n,
+                   (double)(isr1[v] - isr0[v]) / (double)(isrn1[v] - isrn0[v]));
+        }
+        double in_main = (double)(inmain1 - inmain0) / (double)n;
+        double main_only = main_ps * (double)(main_n1 - main_n0) / (double)n - in_main;
+        printf("    main loop, sample work        %8.0f cycles  (frame + filter, D4 window less "
+               "the ISRs inside it; %.0f per window, max %llu)\n",
+               main_only, main_ps, (unsigned long long)g_probe_main.max);
+        printf("      of which the filter step    %8.0f cycles  (%.0f per step, max %llu; D7 "
+               "window)\n",
+               filt_ps * (double)(filt_n1 - filt_n0) / (double)n, filt_ps,
+               (unsigned long long)g_probe_filter.max);
+        printf("    the rest (wake-ups, loop)     %8.0f cycles\n", busy_ps - isr_all - main_only);
         printf("BENCH %s rate_hz=%u samples=%zu busy_cycles_per_sample=%.0f cpu_pct=%.2f "
-               "main_cycles=%.0f main_max=%llu filter_cycles=%.0f filter_max=%llu "
-               "isr_other_cycles=%.0f\n",
-               s->name, s->rate, n, busy_ps, 100.0 * busy_ps / period, main_ps,
-               (unsigned long long)g_probe_main.max, filt_ps,
-               (unsigned long long)g_probe_filter.max, busy_ps - main_ps);
+               "isr_cycles_per_sample=%.0f tick_isr=%.0f twi_isr=%.0f "
+               "main_cycles_per_sample=%.0f filter_step=%.0f filter_step_max=%llu "
+               "main_window_max=%llu\n",
+               s->name, s->rate, n, busy_ps, 100.0 * busy_ps / period, isr_all,
+               (double)(isr1[7] - isr0[7]) / n, (double)(isr1[24] - isr0[24]) / n, main_only,
+               filt_ps, (unsigned long long)g_probe_filter.max,
+               (unsigned long long)g_probe_main.max);
     }
     free(fr.f);
     free(g_tx.b);
