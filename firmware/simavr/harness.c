@@ -19,14 +19,16 @@
  *   4. commands: ACK status 0/1/2/3 as the spec says, CONFIG after accepted
  *      SET_* and REQUEST_CONFIG, STOP silences SAMPLE frames, START restarts
  *      seq at 0, SET_RANGES changes the chip's ranges (and the dials stay
- *      right).
+ *      right), SET_RATE above 400 Hz is refused;
+ *   5. with no sensor on the bus: CONFIG at boot, no SAMPLE, the firmware
+ *      keeps retrying, commands are answered, the dials stay centred.
  * and measures the CPU use per sample in simulated cycles: busy = not asleep
  * (the firmware sleeps in idle mode between interrupts); each interrupt from
  * its vector-table entry to its RETI; the main loop's work on a sample from
  * the D4 (PD4) test point less the interrupts inside it; the filter step from
  * D7 (PD7).
  *
- * Usage: harness FIRMWARE.elf OUTDIR [100hz|400hz|all]
+ * Usage: harness FIRMWARE.elf OUTDIR [100hz|400hz|nosensor|all]
  * Writes OUTDIR/<scenario>_capture.bin (every byte the board sent),
  * <scenario>_played.csv (every sample the simulated chip played),
  * <scenario>_decoded.csv (the decoded samples in clino fuse's raw CSV),
@@ -276,6 +278,7 @@ typedef struct {
     int nholds;
     double count_t0, count_t1; /* window for the frame count */
     uint16_t rate;             /* rate after the commands */
+    int no_sensor;             /* run without the MPU6050 on the bus */
 } scenario_t;
 
 static int find_cmd(const scenario_t *s, const char *what, int nth)
@@ -437,6 +440,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
     static mpu_model_t mpu;
     free(mpu.played);
     mpu_model_init(&mpu, avr);
+    mpu.absent = s->no_sensor;
 
     /* budget window: steady state before the commands */
     double bw0 = 2.0, bw1 = s->ncmds && s->cmds[s->ncmds - 1].t > 6 ? 12.0 : s->duration - 0.5;
@@ -502,6 +506,25 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
     printf("  %zu bytes from the board, %zu frames, %u bad; %zu samples played, %u TWI NAKs\n",
            g_tx.n, fr.n, fr.bad, mpu.nplayed, mpu.naks);
     check(fr.bad == 0, "no bad frame in the board's stream (%u)", fr.bad);
+
+    if (s->no_sensor) {
+        size_t nsamp = 0;
+        for (size_t k = 0; k < fr.n; k++)
+            nsamp += fr.f[k].type == PROTO_SAMPLE;
+        check(fr.n > 0 && fr.f[0].type == PROTO_CONFIG, "no sensor: CONFIG at boot all the same");
+        check(nsamp == 0 && mpu.nplayed == 0, "no sensor: no SAMPLE frame (%zu)", nsamp);
+        check(mpu.naks >= 3, "no sensor: the firmware keeps looking for it (%u address NAKs)",
+              mpu.naks);
+        check_ack(&fr, s, 0, PROTO_REQUEST_CONFIG, 0, 1);
+        size_t off = 0;
+        for (int ch = 0; ch < 2; ch++)
+            for (size_t k = 0; k < g_pulse[ch].n; k++)
+                off += g_pulse[ch].p[k].width_us != 1500.0;
+        check(g_pulse[0].n > 100 && off == 0,
+              "no sensor: both dials stay at 1500 us (%zu pulses, %zu off centre)",
+              g_pulse[0].n + g_pulse[1].n, off);
+        goto done;
+    }
 
     /* ---- 0. boot CONFIG ---- */
     check(fr.n > 0 && fr.f[0].type == PROTO_CONFIG, "the first frame is CONFIG");
@@ -772,7 +795,8 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
         const command_t *c = &s->cmds[i];
         if (!strcmp(c->what, "SET_RATE ok"))
             check_ack(&fr, s, i, PROTO_SET_RATE, 0, 1);
-        else if (!strcmp(c->what, "SET_RATE 1000 (too fast)") || !strcmp(c->what, "SET_RATE 0"))
+        else if (!strcmp(c->what, "SET_RATE 1000 (too fast)") || !strcmp(c->what, "SET_RATE 0") ||
+                 !strcmp(c->what, "SET_RATE 401 (past the link budget)"))
             check_ack(&fr, s, i, PROTO_SET_RATE, 1, 0);
         else if (!strcmp(c->what, "REQUEST_CONFIG"))
             check_ack(&fr, s, i, PROTO_REQUEST_CONFIG, 0, 1);
@@ -860,6 +884,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
                filt_ps, (unsigned long long)g_probe_filter.max,
                (unsigned long long)g_probe_main.max);
     }
+done:
     free(fr.f);
     free(g_tx.b);
     free(g_tx.cyc);
@@ -871,7 +896,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: %s FIRMWARE.elf OUTDIR [100hz|400hz|all]\n", argv[0]);
+        fprintf(stderr, "usage: %s FIRMWARE.elf OUTDIR [100hz|400hz|nosensor|all]\n", argv[0]);
         return 2;
     }
     const char *which = argc > 3 ? argv[3] : "all";
@@ -918,14 +943,25 @@ int main(int argc, char **argv)
     s400.count_t0 = 1.0;
     s400.count_t1 = 5.5;
     s400.cmds[0] = cmd_u16(0.3, "SET_RATE ok", PROTO_SET_RATE, 400);
-    s400.ncmds = 1;
+    s400.cmds[1] = cmd_u16(5.7, "SET_RATE 401 (past the link budget)", PROTO_SET_RATE, 401);
+    s400.ncmds = 2;
     s400.holds[0] = (hold_t){4.0, 5.0, 30, -15};
     s400.nholds = 1;
+
+    static scenario_t snone;
+    snone.name = "nosensor";
+    snone.duration = 3.5;
+    snone.rate = 100;
+    snone.no_sensor = 1;
+    snone.cmds[0] = cmd_frame(2.5, "REQUEST_CONFIG", PROTO_REQUEST_CONFIG, NULL, 0);
+    snone.ncmds = 1;
 
     if (!strcmp(which, "100hz") || !strcmp(which, "all"))
         run_scenario(argv[1], argv[2], &s100);
     if (!strcmp(which, "400hz") || !strcmp(which, "all"))
         run_scenario(argv[1], argv[2], &s400);
+    if (!strcmp(which, "nosensor") || !strcmp(which, "all"))
+        run_scenario(argv[1], argv[2], &snone);
     printf("\n%s: %d failed check(s)\n", failures ? "FAILED" : "PASSED", failures);
     return failures ? 1 : 0;
 }

@@ -152,7 +152,7 @@ static void twi_hook(struct avr_irq_t *irq, uint32_t value, void *param)
         m->selected = 0;
     if (v.u.twi.msg & TWI_COND_START) {
         m->selected = 0;
-        if ((v.u.twi.addr >> 1) == 0x68) {
+        if ((v.u.twi.addr >> 1) == 0x68 && !m->absent) {
             m->selected = v.u.twi.addr;
             if (!(v.u.twi.addr & 1))
                 m->want_ptr = 1;

@@ -51,6 +51,7 @@ typedef struct {
     played_t *played;
     size_t nplayed, capplayed;
     uint32_t writes, reads, naks;
+    int absent; /* 1: nobody answers at 0x68 (the sensor unplugged) */
 } mpu_model_t;
 
 void mpu_model_init(mpu_model_t *m, avr_t *avr);

@@ -163,12 +163,35 @@ static void send_config(void)
     send_blocking(f, proto_frame_config(&c, f));
 }
 
+static void handle_sample(const uint8_t *b, uint16_t seq, uint32_t t_us);
+
+/* Take the waiting sample, if any, and process it (main loop only). */
+static uint8_t drain_ready(void)
+{
+    if (!ready)
+        return 0;
+    PORTD |= _BV(PD4);
+    uint8_t b[MPU_BURST_LEN];
+    cli();
+    for (uint8_t i = 0; i < MPU_BURST_LEN; i++)
+        b[i] = ready_burst[i];
+    uint16_t seq = ready_seq;
+    uint32_t t = ready_t_us;
+    ready = 0;
+    sei();
+    handle_sample(b, seq, t);
+    PORTD &= (uint8_t)~_BV(PD4);
+    return 1;
+}
+
 /* ---- sensor set-up (sampling paused while the bus is used here) ---- */
 static void pause_sampling(void)
 {
     sampling_on = 0;
     while (twi_busy())
         ;
+    /* a sample read at the old ranges is processed with them */
+    drain_ready();
 }
 
 static int setup_sensor(const mpu_ranges_t *r, uint8_t full_init)
@@ -199,6 +222,7 @@ static void handle_command(void)
             send_ack(t, PROTO_ACK_RANGE);
             break;
         }
+        drain_ready(); /* a sample taken at the old rate keeps its step h */
         cli();
         rate_hz = r;
         tick_acc = 0;
@@ -350,20 +374,8 @@ void loop()
         }
         return;
     }
-    if (ready) {
-        PORTD |= _BV(PD4);
-        uint8_t b[MPU_BURST_LEN];
-        cli();
-        for (uint8_t i = 0; i < MPU_BURST_LEN; i++)
-            b[i] = ready_burst[i];
-        uint16_t seq = ready_seq;
-        uint32_t t = ready_t_us;
-        ready = 0;
-        sei();
-        handle_sample(b, seq, t);
-        PORTD &= (uint8_t)~_BV(PD4);
+    if (drain_ready())
         return;
-    }
     /* Nothing to do: sleep until the next interrupt (tick, TWI, UART, Timer0).
      * sei immediately before sleep is atomic, so no wake-up is missed. */
     set_sleep_mode(SLEEP_MODE_IDLE);
