@@ -58,6 +58,9 @@ static volatile uint16_t tick_acc;
 static volatile uint32_t tick_count; /* 2 kHz ticks since boot */
 static volatile uint8_t sampling_on; /* 0 while the sensor is being set up */
 static volatile uint16_t next_seq;
+/* Samples lost at the source (bus busy, main loop late, sampling paused) and
+ * frames the transmit buffer had no room for: the host sees both as gaps in
+ * seq; the counters are for a debugger. */
 static volatile uint32_t lost_samples;
 
 static uint8_t burst[MPU_BURST_LEN];
@@ -78,7 +81,7 @@ static clino_calib_t calib;
 static clino_filter_t filt;
 static uint8_t host_dials;
 static uint32_t host_dials_ms;
-static uint32_t tx_dropped;
+static uint32_t tx_dropped; /* see lost_samples */
 
 static void on_burst_done(uint8_t ok)
 {
