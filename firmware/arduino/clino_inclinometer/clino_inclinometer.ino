@@ -6,7 +6,7 @@
  *  - Timer2 ticks at 2 kHz; a phase accumulator turns the tick into the sample
  *    clock (rate_hz, exact mean rate for any integer rate, exact period when
  *    rate divides 2000). At each sample instant the tick interrupt stamps the
- *    sample with the tick's own time (t_us = ticks * 500 us since the clock
+ *    sample with the tick's own time (t_us = 500 us per tick since the clock
  *    started at boot, wrapping at 2^32 us like micros(); exact, no interrupt
  *    latency in it) and starts the 14-byte MPU6050 burst read on the TWI;
  *    the TWI interrupt completes it. A sample instant whose read cannot start
@@ -55,7 +55,7 @@
 /* ---- state shared with the interrupts ---- */
 static volatile uint16_t rate_hz = DEFAULT_RATE_HZ;
 static volatile uint16_t tick_acc;
-static volatile uint32_t tick_count; /* 2 kHz ticks since boot */
+static volatile uint32_t tick_us; /* the sample clock's time since boot, us */
 static volatile uint8_t sampling_on; /* 0 while the sensor is being set up */
 static volatile uint16_t next_seq;
 /* Samples lost at the source (bus busy, main loop late, sampling paused) and
@@ -103,7 +103,7 @@ static void on_burst_done(uint8_t ok)
 
 ISR(TIMER2_COMPA_vect)
 {
-    tick_count++;
+    tick_us += 1000000UL / TICK_HZ;
     tick_acc += rate_hz;
     if (tick_acc < TICK_HZ)
         return;
@@ -122,7 +122,7 @@ ISR(TIMER2_COMPA_vect)
     }
     burst_seq = seq;
     /* the sample instant is the tick, whatever the interrupt latency */
-    burst_t_us = tick_count * (uint32_t)(1000000UL / TICK_HZ);
+    burst_t_us = tick_us;
     if (twi_start_read(MPU_REG_ACCEL_XOUT_H, burst, MPU_BURST_LEN, on_burst_done) != 0)
         lost_samples++;
 }
