@@ -20,7 +20,11 @@
  *      SET_* and REQUEST_CONFIG, STOP silences SAMPLE frames, START restarts
  *      seq at 0, SET_RANGES changes the chip's ranges (and the dials stay
  *      right), SET_RATE above 400 Hz is refused;
- *   5. with no sensor on the bus: CONFIG at boot, no SAMPLE, the firmware
+ *   5. unplugging the sensor for 1 s (it powers up again, asleep, at its
+ *      reset ranges): one gap in seq covers the outage, every seq step is
+ *      one period of t_us, the firmware sets the chip up again with the
+ *      ranges in force and the dials come back to the truth;
+ *   6. with no sensor on the bus: CONFIG at boot, no SAMPLE, the firmware
  *      keeps retrying, commands are answered, the dials stay centred.
  * and measures the CPU use per sample in simulated cycles: busy = not asleep
  * (the firmware sleeps in idle mode between interrupts); each interrupt from
@@ -28,7 +32,7 @@
  * the D4 (PD4) test point less the interrupts inside it; the filter step from
  * D7 (PD7).
  *
- * Usage: harness FIRMWARE.elf OUTDIR [100hz|400hz|nosensor|all]
+ * Usage: harness FIRMWARE.elf OUTDIR [100hz|400hz|unplug|nosensor|all]
  * Writes OUTDIR/<scenario>_capture.bin (every byte the board sent),
  * <scenario>_played.csv (every sample the simulated chip played),
  * <scenario>_decoded.csv (the decoded samples in clino fuse's raw CSV),
@@ -279,6 +283,7 @@ typedef struct {
     double count_t0, count_t1; /* window for the frame count */
     uint16_t rate;             /* rate after the commands */
     int no_sensor;             /* run without the MPU6050 on the bus */
+    double unplug_t, replug_t; /* the sensor leaves the bus and comes back */
 } scenario_t;
 
 static int find_cmd(const scenario_t *s, const char *what, int nth)
@@ -444,6 +449,8 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
 
     /* budget window: steady state before the commands */
     double bw0 = 2.0, bw1 = s->ncmds && s->cmds[s->ncmds - 1].t > 6 ? 12.0 : s->duration - 0.5;
+    if (s->unplug_t > 0 || s->no_sensor)
+        bw0 = 1e9; /* no budget figures from a run with an outage */
     uint64_t idle_at_bw0 = 0, idle_at_bw1 = 0, main_at0 = 0, main_n0 = 0, filt_at0 = 0,
              filt_n0 = 0, main_at1 = 0, main_n1 = 0, filt_at1 = 0, filt_n1 = 0;
     size_t played_at_bw0 = 0, played_at_bw1 = 0;
@@ -463,6 +470,11 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
                 avr_raise_irq(uart_in, s->cmds[next_cmd].wire[k]);
             next_cmd++;
         }
+        if (s->unplug_t > 0 && !mpu.absent && avr->cycle >= CYC(s->unplug_t) &&
+            avr->cycle < CYC(s->replug_t))
+            mpu_model_set_present(&mpu, 0);
+        if (s->unplug_t > 0 && mpu.absent && avr->cycle >= CYC(s->replug_t))
+            mpu_model_set_present(&mpu, 1);
         if (bw_state == 0 && avr->cycle >= CYC(bw0)) {
             idle_at_bw0 = g_idle, played_at_bw0 = mpu.nplayed;
             main_at0 = g_probe_main.total, main_n0 = g_probe_main.count;
@@ -555,6 +567,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
     size_t pi = 0, matched = 0, skipped_ok = 0, skipped_bad = 0, seq_bad = 0, nsample = 0;
     int have_prev = 0;
     uint16_t prev_seq = 0;
+    double prev_t = 0;
     int after_start = 0;
     for (size_t k = 0; k < fr.n; k++) {
         if (fr.f[k].type != PROTO_SAMPLE)
@@ -582,12 +595,13 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
             after_start = 1;
             if (q.seq != 0)
                 seq_bad++;
-        } else if (have_prev && q.seq != (uint16_t)(prev_seq + 1)) {
+        } else if (have_prev && q.seq != (uint16_t)(prev_seq + 1) &&
+                   !(s->unplug_t > 0 && prev_t < s->unplug_t && mpu.played[j].t > s->replug_t)) {
             if (seq_bad < 5)
                 printf("  seq %u follows %u\n", q.seq, prev_seq);
             seq_bad++;
         }
-        prev_seq = q.seq, have_prev = 1;
+        prev_seq = q.seq, have_prev = 1, prev_t = mpu.played[j].t;
         matched++;
         pi = j + 1;
     }
@@ -598,7 +612,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
           "every played sample decoded bit-exact and in order: %zu of %zu (%zu played while "
           "stopped, %zu missing or unmatched)",
           matched, mpu.nplayed, skipped_ok, skipped_bad);
-    check(seq_bad == 0, "seq +1 per sample, 0 after START (%zu breaks)", seq_bad);
+    check(seq_bad == 0, "seq +1 per sample, 0 after START, a gap only over an outage (%zu breaks)", seq_bad);
     if (i_stop >= 0)
         check(skipped_ok > 0, "no SAMPLE frame between STOP and START (%zu samples held back)",
               skipped_ok);
@@ -655,6 +669,62 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
               "board clock against the simulated clock: chip latch - t_us in [%.1f, %.1f] us "
               "(latency spread <= 24 us, no drift)",
               off_min, off_max);
+    }
+
+    /* ---- 2b. seq against time: a gap in seq is a gap in time, exactly ---- */
+    {
+        int ia = find_cmd(s, "SET_RATE ok", 0), is = find_cmd(s, "START", 0);
+        const frame_t *ra = ia >= 0 ? reply(&fr, s, ia, PROTO_ACK, 0) : NULL;
+        const frame_t *sa = is >= 0 ? reply(&fr, s, is, PROTO_ACK, 0) : NULL;
+        size_t pairs = 0, bad = 0, gaps = 0;
+        uint32_t biggest = 0;
+        int have = 0;
+        proto_sample_t prev = {0};
+        uint64_t prev_cyc = 0;
+        for (size_t k = 0; k < fr.n; k++) {
+            if (fr.f[k].type != PROTO_SAMPLE)
+                continue;
+            proto_sample_t q;
+            proto_parse_sample(fr.f[k].p, &q);
+            int straddle = (ra && prev_cyc < ra->cyc && fr.f[k].cyc > ra->cyc) ||
+                           (sa && prev_cyc < sa->cyc && fr.f[k].cyc > sa->cyc);
+            if (have && !straddle) {
+                uint16_t ds = (uint16_t)(q.seq - prev.seq);
+                uint32_t dt = q.t_us - prev.t_us;
+                uint32_t per = (uint32_t)(1000000u / (ra && fr.f[k].cyc > ra->cyc ? s->rate : 100));
+                pairs++;
+                if ((uint32_t)ds * per != dt)
+                    bad++;
+                if (ds > 1) {
+                    gaps++;
+                    if (ds > biggest)
+                        biggest = ds;
+                }
+            }
+            prev = q, prev_cyc = fr.f[k].cyc, have = 1;
+        }
+        check(pairs > 0 && bad == 0,
+              "seq against t_us: %zu consecutive pairs, every seq step is one period (%zu "
+              "not); %zu gaps, the largest %u samples",
+              pairs, bad, gaps, biggest);
+        if (s->unplug_t > 0) {
+            double resumed = 0;
+            for (size_t i = 0; i < mpu.nplayed; i++)
+                if (mpu.played[i].t > s->replug_t) {
+                    resumed = mpu.played[i].t;
+                    break;
+                }
+            check(gaps == 1 && biggest >= (s->replug_t - s->unplug_t) * 100 - 1,
+                  "unplugged %.1f-%.1f s: one gap in seq (%u samples) covers it", s->unplug_t,
+                  s->replug_t, biggest);
+            check(resumed > 0 && resumed - s->replug_t < 1.3,
+                  "the firmware set the chip up again: samples resume %.3f s after the replug",
+                  resumed - s->replug_t);
+            check(mpu_model_accel_fs(&mpu) == 4 && mpu_model_gyro_fs(&mpu) == 500 &&
+                      (mpu.reg[0x1A] & 7) == 3 && !(mpu.reg[0x6B] & 0x40),
+                  "after the replug the chip is awake at +-%d g, +-%d deg/s, DLPF %d again",
+                  mpu_model_accel_fs(&mpu), mpu_model_gyro_fs(&mpu), mpu.reg[0x1A] & 7);
+        }
     }
 
     /* ---- 3. dials ---- */
@@ -896,7 +966,7 @@ done:
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: %s FIRMWARE.elf OUTDIR [100hz|400hz|nosensor|all]\n", argv[0]);
+        fprintf(stderr, "usage: %s FIRMWARE.elf OUTDIR [100hz|400hz|unplug|nosensor|all]\n", argv[0]);
         return 2;
     }
     const char *which = argc > 3 ? argv[3] : "all";
@@ -948,6 +1018,17 @@ int main(int argc, char **argv)
     s400.holds[0] = (hold_t){4.0, 5.0, 30, -15};
     s400.nholds = 1;
 
+    static scenario_t sunplug;
+    sunplug.name = "unplug";
+    sunplug.duration = 5.2;
+    sunplug.rate = 100;
+    sunplug.count_t0 = 0.5;
+    sunplug.count_t1 = 1.5;
+    sunplug.unplug_t = 2.0;
+    sunplug.replug_t = 3.0;
+    sunplug.holds[0] = (hold_t){4.5, 5.0, 30, -15};
+    sunplug.nholds = 1;
+
     static scenario_t snone;
     snone.name = "nosensor";
     snone.duration = 3.5;
@@ -960,6 +1041,8 @@ int main(int argc, char **argv)
         run_scenario(argv[1], argv[2], &s100);
     if (!strcmp(which, "400hz") || !strcmp(which, "all"))
         run_scenario(argv[1], argv[2], &s400);
+    if (!strcmp(which, "unplug") || !strcmp(which, "all"))
+        run_scenario(argv[1], argv[2], &sunplug);
     if (!strcmp(which, "nosensor") || !strcmp(which, "all"))
         run_scenario(argv[1], argv[2], &snone);
     printf("\n%s: %d failed check(s)\n", failures ? "FAILED" : "PASSED", failures);

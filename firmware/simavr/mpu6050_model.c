@@ -202,3 +202,11 @@ void mpu_model_init(mpu_model_t *m, avr_t *avr)
     avr_connect_irq(avr_io_getirq(avr, AVR_IOCTL_TWI_GETIRQ(0), TWI_IRQ_OUTPUT),
                     m->irq + TWI_IRQ_OUTPUT);
 }
+
+void mpu_model_set_present(mpu_model_t *m, int present)
+{
+    if (present && m->absent)
+        reset_regs(m);
+    m->absent = !present;
+    m->selected = 0;
+}

@@ -56,6 +56,9 @@ typedef struct {
 
 void mpu_model_init(mpu_model_t *m, avr_t *avr);
 int mpu_model_accel_fs(const mpu_model_t *m); /* g */
+/* Unplug (present 0: nobody answers) or plug back in (present 1: the chip
+ * powers up again, registers at their reset values, asleep). */
+void mpu_model_set_present(mpu_model_t *m, int present);
 int mpu_model_gyro_fs(const mpu_model_t *m);  /* deg/s */
 
 #endif

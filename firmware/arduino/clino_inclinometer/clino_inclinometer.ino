@@ -18,6 +18,9 @@
  *    Poisson rectangles eq 3-4, complementary filter eq 5, k = 0.05; stepped
  *    at no more than 100 Hz, see filter.h) and sets the dials on pins 9 and
  *    10, unless the host sent dial angles in the last 2 s (SET_DIALS).
+ *  - If burst reads keep failing (sensor unplugged or powered off), the chip
+ *    is set up again once a second until it answers, with the ranges last
+ *    asked for; seq goes on counting the instants missed.
  *  - Host commands (REQUEST_CONFIG, SET_RATE, SET_RANGES, START, STOP,
  *    SET_DIALS) are answered by an ACK; CONFIG follows at boot, on
  *    REQUEST_CONFIG and after every accepted SET_* command.
@@ -76,6 +79,12 @@ static volatile uint32_t ready_t_us;
 static mpu_ranges_t ranges = {4, 500, 3};
 static uint8_t streaming = 1;
 static volatile uint8_t sensor_ok;
+static volatile uint8_t seq_running;  /* the sensor answered once: seq counts instants */
+static volatile uint8_t fail_streak;  /* burst reads failed in a row */
+static volatile uint8_t busy_streak;  /* sample instants found the bus still busy */
+static volatile uint8_t sensor_lost;  /* set by the TWI interrupt, seen by the main loop */
+#define LOST_AFTER_FAILS 10u          /* 0.1 s at 100 Hz: then set the chip up again */
+#define ABORT_AFTER_BUSY 4u
 static proto_rx_t rx;
 static clino_calib_t calib;
 static clino_filter_t filt;
@@ -88,8 +97,11 @@ static void on_burst_done(uint8_t ok)
     /* TWI interrupt context */
     if (!ok) {
         lost_samples++;
+        if (++fail_streak >= LOST_AFTER_FAILS)
+            sensor_lost = 1; /* unplugged or powered off: set it up again */
         return;
     }
+    fail_streak = 0;
     if (ready) { /* main loop still busy with the previous one */
         lost_samples++;
         return;
@@ -109,7 +121,7 @@ ISR(TIMER2_COMPA_vect)
         return;
     tick_acc -= TICK_HZ;
     if (!sampling_on) {
-        if (sensor_ok) { /* paused for a range change: the host sees a gap */
+        if (seq_running) { /* paused or sensor lost: the host sees a gap */
             next_seq++;
             lost_samples++;
         }
@@ -118,8 +130,13 @@ ISR(TIMER2_COMPA_vect)
     uint16_t seq = next_seq++;
     if (twi_busy()) {
         lost_samples++;
+        if (++busy_streak >= ABORT_AFTER_BUSY) { /* a transfer that never ends */
+            twi_abort();
+            busy_streak = 0;
+        }
         return;
     }
+    busy_streak = 0;
     burst_seq = seq;
     /* the sample instant is the tick, whatever the interrupt latency */
     burst_t_us = tick_us;
@@ -205,6 +222,11 @@ static int setup_sensor(const mpu_ranges_t *r, uint8_t full_init)
         calib_set_ranges(&calib, r->accel_fs_g, r->gyro_fs_dps);
     if (full_init)
         sensor_ok = (rc == 0);
+    if (sensor_ok) {
+        seq_running = 1;
+        fail_streak = 0;
+        sensor_lost = 0;
+    }
     sampling_on = sensor_ok;
     return rc;
 }
@@ -369,6 +391,10 @@ void setup()
 void loop()
 {
     poll_serial();
+    if (sensor_lost && sensor_ok) { /* reads keep failing: the chip went away */
+        sampling_on = 0;
+        sensor_ok = 0;
+    }
     if (!sensor_ok) { /* no MPU6050 answered: try again every second */
         static uint32_t last_try;
         if ((uint32_t)(millis() - last_try) >= 1000u) {

@@ -120,15 +120,20 @@ static int tw_begin(uint8_t reg, uint8_t *buf, uint8_t n, uint8_t reading,
     return 0;
 }
 
+void twi_abort(void)
+{
+    TWCR = 0;
+    tw_busy = 0;
+    twi_init();
+}
+
 static int tw_wait(void)
 {
     /* 20 ms: a 64-byte transfer at 400 kHz takes 1.5 ms. */
     for (uint16_t i = 0; tw_busy && i < 2000u; i++)
         _delay_us(10);
     if (tw_busy) { /* the bus hung: reset the unit */
-        TWCR = 0;
-        tw_busy = 0;
-        twi_init();
+        twi_abort();
         return -1;
     }
     return tw_ok ? 0 : -1;

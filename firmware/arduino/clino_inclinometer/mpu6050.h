@@ -32,6 +32,8 @@ int twi_read_regs(uint8_t reg, uint8_t *buf, uint8_t n);
  */
 int twi_start_read(uint8_t reg, uint8_t *buf, uint8_t n, void (*done)(uint8_t ok));
 uint8_t twi_busy(void);
+/* Abandon a transfer that never ends (a slave holding the bus): reset the unit. */
+void twi_abort(void);
 
 typedef struct {
     uint8_t accel_fs_g;   /* 2, 4, 8, 16 */
