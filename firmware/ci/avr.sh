@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # CI step for the Arduino firmware (issue 11): install Debian's AVR tool chain
 # and simavr, build the firmware (nominal and simulated-unit calibration), run
-# the host unit tests of its portable C and the simavr harness, print the
-# figures. Exits non-zero on any failure. About a minute once apt is done.
+# the host unit tests of its portable C and the simavr harness, decode the
+# harness's captures with an independent decoder, print the figures. Exits non-zero on any failure. About a minute once apt is done.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 start=$(date +%s)
@@ -10,7 +10,7 @@ say() { echo "-- avr: $* ($(( $(date +%s) - start )) s)"; }
 
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
-PKGS="gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev pkg-config gcc make"
+PKGS="gcc-avr avr-libc binutils-avr arduino-core-avr simavr libsimavr-dev libelf-dev pkg-config gcc make python3"
 say "apt-get install $PKGS"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -q >/dev/null
@@ -35,12 +35,18 @@ firmware/simavr/harness "$FW/build-sim/clino_inclinometer.elf" firmware/simavr/o
 rc=${PIPESTATUS[0]}
 set -e
 
+say "the captures through an independent decoder (Python, from the spec)"
+set +e
+python3 firmware/simavr/check_capture.py firmware/simavr/out
+rc2=$?
+set -e
+
 say "figures"
 avr-size "$FW/build/clino_inclinometer.elf" | sed 's/^/   /'
 grep '^BENCH' "$log" | sed 's/^/   /' || true
 ls -l firmware/simavr/out/*_capture.bin firmware/simavr/out/*_played.csv | sed 's/^/   /'
-if [ "$rc" != 0 ]; then
-    echo "avr: the simavr harness failed (status $rc)" >&2
-    exit "$rc"
+if [ "$rc" != 0 ] || [ "$rc2" != 0 ]; then
+    echo "avr: the simavr harness (status $rc) or the capture check (status $rc2) failed" >&2
+    exit 1
 fi
 say "done"

@@ -367,8 +367,10 @@ static int write_outputs(const char *dir, const scenario_t *s, const mpu_model_t
         if (fr->f[k].type == PROTO_CONFIG) {
             proto_config_t c;
             proto_parse_config(fr->f[k].p, &c);
-            lsb_a = mpu_accel_lsb_per_g(c.accel_fs_g);
-            lsb_g = mpu_gyro_lsb_per_dps(c.gyro_fs_dps);
+            /* the spec's sensitivities as doubles (32.8 is not a float) */
+            lsb_a = 32768.0 / c.accel_fs_g;
+            lsb_g = c.gyro_fs_dps == 250 ? 131.0 : c.gyro_fs_dps == 500 ? 65.5
+                    : c.gyro_fs_dps == 1000 ? 32.8 : 16.4;
             continue;
         }
         if (fr->f[k].type != PROTO_SAMPLE)
