@@ -193,7 +193,7 @@ static void sleep_none(avr_t *avr, avr_cycle_count_t howlong)
 /* ---------------------------------------------------------------- host side */
 typedef struct {
     double t;
-    uint8_t wire[PROTO_MAX_WIRE];
+    uint8_t wire[128];
     size_t n;
     const char *what;
 } command_t;
@@ -230,6 +230,10 @@ static command_t cmd_ranges(double t, uint8_t a, uint16_t g, uint8_t d)
 static command_t cmd_raw(double t, const char *what, const uint8_t *b, size_t n)
 {
     command_t c = {t, {0}, n, what};
+    if (n > sizeof c.wire) {
+        fprintf(stderr, "harness: raw command of %zu bytes too long\n", n);
+        exit(2);
+    }
     memcpy(c.wire, b, n);
     return c;
 }
@@ -276,7 +280,7 @@ typedef struct {
 typedef struct {
     const char *name;
     double duration;
-    command_t cmds[24];
+    command_t cmds[32];
     int ncmds;
     hold_t holds[4];
     int nholds;
@@ -460,6 +464,9 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
 
     uint64_t end = CYC(s->duration);
     int next_cmd = 0;
+    const uint8_t *in_buf = NULL;
+    size_t in_len = 0, in_pos = 0;
+    uint64_t next_in = 0;
     int in_isr = -1;
     uint64_t isr_start = 0;
     memset(g_isr_cycles, 0, sizeof g_isr_cycles);
@@ -467,10 +474,18 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
     g_isr_in_main = 0;
     uint64_t isr0[NVEC], isr1[NVEC], isrn0[NVEC], isrn1[NVEC], inmain0 = 0, inmain1 = 0;
     while (avr->cycle < end) {
-        if (next_cmd < s->ncmds && avr->cycle >= CYC(s->cmds[next_cmd].t)) {
-            for (size_t k = 0; k < s->cmds[next_cmd].n; k++)
-                avr_raise_irq(uart_in, s->cmds[next_cmd].wire[k]);
+        /* host bytes go in at the line rate (10 bits at 115200 baud each),
+         * as a PC's UART sends them; simavr's receive FIFO holds 64 */
+        if (in_pos == in_len && next_cmd < s->ncmds && avr->cycle >= CYC(s->cmds[next_cmd].t)) {
+            in_buf = s->cmds[next_cmd].wire;
+            in_len = s->cmds[next_cmd].n;
+            in_pos = 0;
+            next_in = avr->cycle;
             next_cmd++;
+        }
+        if (in_pos < in_len && avr->cycle >= next_in) {
+            avr_raise_irq(uart_in, in_buf[in_pos++]);
+            next_in += (uint64_t)(F_CPU * 10.0 / 115200.0);
         }
         if (s->unplug_t > 0 && !mpu.absent && avr->cycle >= CYC(s->unplug_t) &&
             avr->cycle < CYC(s->replug_t))
@@ -884,6 +899,12 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
             check_ack(&fr, s, i, 0x42, 2, 0);
         else if (!strcmp(c->what, "bad CRC"))
             check_ack(&fr, s, i, PROTO_REQUEST_CONFIG, 3, 0);
+        else if (!strcmp(c->what, "SET_RATE with 3 bytes"))
+            check_ack(&fr, s, i, PROTO_SET_RATE, 3, 0);
+        else if (!strcmp(c->what, "a SAMPLE sent to the board"))
+            check_ack(&fr, s, i, PROTO_SAMPLE, 2, 0);
+        else if (!strcmp(c->what, "overlong frame"))
+            check_ack(&fr, s, i, 0, 3, 0);
         else if (!strcmp(c->what, "garbage"))
             check_ack(&fr, s, i, 0, 3, 0);
         else if (!strcmp(c->what, "STOP"))
@@ -997,6 +1018,16 @@ int main(int argc, char **argv)
     {
         static const uint8_t g[] = {0x01, 0x02, 0x03, 0x00};
         c[n++] = cmd_raw(13.4, "garbage", g, sizeof g);
+    }
+    {
+        static const uint8_t p3[3] = {100, 0, 0};
+        c[n++] = cmd_frame(13.45, "SET_RATE with 3 bytes", PROTO_SET_RATE, p3, 3);
+        static const uint8_t p20[20] = {1, 2, 3};
+        c[n++] = cmd_frame(13.5, "a SAMPLE sent to the board", PROTO_SAMPLE, p20, 20);
+        static uint8_t longf[71];
+        memset(longf, 0x5A, 70);
+        longf[70] = 0;
+        c[n++] = cmd_raw(13.55, "overlong frame", longf, sizeof longf);
     }
     c[n++] = cmd_frame(13.6, "STOP", PROTO_STOP, NULL, 0);
     c[n++] = cmd_frame(14.0, "START", PROTO_START, NULL, 0);
