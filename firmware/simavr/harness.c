@@ -9,9 +9,12 @@
  *      stream (COBS + CRC decoded here with the firmware's protocol.c), with
  *      seq +1 per sample, except samples played while the host had sent STOP;
  *   2. the sample rate holds: consecutive t_us differ by exactly 1e6/rate
- *      (the stamp is the sample clock's tick), the number of frames in a window is rate * window within 1,
- *      and the board clock keeps step with the simulated clock;
- *   3. the dials: each 50 Hz pulse width equals 1500 us + angle * 500/90 us
+ *      (the stamp is the sample clock's tick), the number of frames in a
+ *      window is rate * window within 1, and the board clock keeps step with
+ *      the simulated clock;
+ *   3. the dials: the 50 Hz period from the simulated OC1A/OC1B pins; each
+ *      pulse width (the OCR1x value in force at the period's start, see
+ *      pin_servo) equals 1500 us + angle * 500/90 us
  *      (within 0.5 us, one Timer1 tick) for the angle of the source filter
  *      run here over the played samples (filter.c built for the host); during
  *      holds of the motion, the dial angle is within 0.2 deg of the truth;
