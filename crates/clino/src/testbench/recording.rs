@@ -39,6 +39,15 @@ pub struct Table {
     columns: HashMap<String, Vec<f64>>,
 }
 
+/// Columns that only mean something together: a file has all of a group or none.
+const COLUMN_GROUPS: [&[&str]; 5] = [
+    &["q_w", "q_x", "q_y", "q_z"],
+    &["ref_q_w", "ref_q_x", "ref_q_y", "ref_q_z"],
+    &["phi_deg", "theta_deg"],
+    &["roll_deg", "pitch_deg"],
+    &["leg1_m", "leg2_m", "leg3_m", "leg4_m", "leg5_m", "leg6_m"],
+];
+
 impl Table {
     /// Read `path` ([`TableReader`]'s rules): a header row, then numeric rows;
     /// `t_s` must be present and increasing.
@@ -58,6 +67,28 @@ impl Table {
         let t = tb
             .find(&["t_s"])
             .ok_or_else(|| tb.missing("t_s", "time column is required"))?;
+        // a group of columns that only means something whole (a quaternion,
+        // a tilt pair, the six legs) is all there or not at all
+        for group in COLUMN_GROUPS {
+            let have: Vec<&str> = group
+                .iter()
+                .copied()
+                .filter(|c| tb.find(&[c]).is_some())
+                .collect();
+            if let Some(missing) = group.iter().find(|c| tb.find(&[c]).is_none())
+                && !have.is_empty()
+            {
+                return Err(tb.missing(
+                    missing,
+                    &format!(
+                        "{} {} there but {missing} is missing: these columns go together ({})",
+                        have.join(", "),
+                        if have.len() == 1 { "is" } else { "are" },
+                        group.join(", ")
+                    ),
+                ));
+            }
+        }
         let mut cols: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         while tb.next_record()? {
             for (j, c) in cols.iter_mut().enumerate() {
