@@ -168,7 +168,6 @@ mod tests {
     use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as T};
     extern crate std;
     use std::vec;
-    use std::vec::Vec;
 
     /// A PWM channel that keeps its duty (max 20 000: one count per µs).
     #[derive(Debug, Default)]
@@ -261,7 +260,8 @@ mod tests {
         ]);
         let mut src = Mpu6050Source::new(Mpu6050::new(bus.clone(), Address::Ad0Low), Clock(0));
         let mut ins = instrument();
-        let mut tx: Vec<u8> = Vec::new();
+        let mut wire = [0u8; 64];
+        let mut tx: &mut [u8] = &mut wire;
         let mut seq = u16::MAX;
         assert_eq!(
             live_step(&mut src, &mut ins, &mut tx, &mut seq),
@@ -278,7 +278,7 @@ mod tests {
         assert_eq!(reading.t_us, 10_000);
         assert_eq!(output.status, Status::Initialised);
         assert!(!sent); // the protocol is not wired yet: nothing written
-        assert!(tx.is_empty());
+        assert_eq!(tx.len(), 64); // nothing consumed
         assert_eq!(seq, 0); // wrapped
         assert_eq!(ins.roll_dial().pulse_us(), Some(1472)); // level
         assert_eq!(
