@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Cortex-M4F firmware (issue 11, item 2): builds firmware/cortex-m for
-# thumbv7em-none-eabihf, runs its unit tests on the host, boots it in QEMU
+# thumbv7em-none-eabihf (the QEMU build and the STM32F411 board build), runs
+# the firmware library's unit tests on the host, boots it in QEMU
 # (MPS2 AN386, a Cortex-M4 with FPU) with semihosting over the embedded BROAD
 # excerpt, and compares every result with the host's clino-core pipeline
 # (bit for bit). Prints the instruction counts (the FIGURE lines; BENCHMARKS.md,
@@ -31,6 +32,9 @@ cargo fmt --all -- --check
 say "firmware build (thumbv7em-none-eabihf, release)"
 cargo build --release --locked
 ls -l "$ELF"
+
+say "board binding build (STM32F411, stm32f4xx-hal; not run: no such board in QEMU)"
+cargo build --release --locked -p clino-fw-stm32f4
 
 say "clino-fw unit tests on the host (mock I2C and PWM)"
 cargo test --release --locked --target "$HOST" -p clino-fw
