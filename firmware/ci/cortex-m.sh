@@ -36,8 +36,8 @@ ls -l "$ELF"
 say "board binding build (STM32F411, stm32f4xx-hal; not run: no such board in QEMU)"
 cargo build --release --locked -p clino-fw-stm32f4
 
-say "clino-fw unit tests on the host (mock I2C and PWM)"
-cargo test --release --locked --target "$HOST" -p clino-fw
+say "unit tests on the host (clino-fw with mock I2C and PWM; the CSV converter)"
+cargo test --release --locked --target "$HOST" -p clino-fw -p clino-fw-check
 
 say "host checker build"
 cargo build --release --locked --target "$HOST" -p clino-fw-check

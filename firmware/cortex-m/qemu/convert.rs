@@ -68,3 +68,43 @@ pub fn csv_to_samples(name: &str, csv: &str) -> Result<Vec<u8>, String> {
     out.extend_from_slice(&body);
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::csv_to_samples;
+
+    const HEAD: &str = "# comment\nt_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,extra\n";
+
+    #[test]
+    fn columns_are_found_by_name_and_stored_in_record_order() {
+        let csv = format!("{HEAD}0.5,1,2,3,4,5,6,x\n\n1.0,-1,-2,-3,-4,-5,NaN,y\n");
+        let b = csv_to_samples("f.csv", &csv).unwrap();
+        assert_eq!(&b[..4], b"CLS1");
+        assert_eq!(u32::from_le_bytes([b[4], b[5], b[6], b[7]]), 2);
+        let f = |i: usize| f64::from_le_bytes(b[8 + 8 * i..16 + 8 * i].try_into().unwrap());
+        // record order: t, gyr x y z, acc x y z
+        assert_eq!(
+            [f(0), f(1), f(2), f(3), f(4), f(5), f(6)],
+            [0.5, 4.0, 5.0, 6.0, 1.0, 2.0, 3.0]
+        );
+        assert!(f(7 + 3).is_nan()); // a NaN cell stays NaN (the pipeline counts it a dropout)
+        assert_eq!(b.len(), 8 + 2 * 56);
+    }
+
+    #[test]
+    fn bad_input_names_file_line_and_column() {
+        let e = csv_to_samples("f.csv", &format!("{HEAD}0.5,1,2,oops,4,5,6,x\n")).unwrap_err();
+        assert_eq!(
+            e,
+            "f.csv, line 3, column 4 (`acc_z_m_s2`): `oops` is not a number"
+        );
+        let e = csv_to_samples("f.csv", &format!("{HEAD}0.5,1,2\n")).unwrap_err();
+        assert_eq!(e, "f.csv, line 3: no column 5 (`gyr_x_rad_s`)");
+        let e = csv_to_samples("g.csv", "t_s,gyr_x_rad_s\n").unwrap_err();
+        assert_eq!(e, "g.csv: no column `gyr_y_rad_s` in the header");
+        assert_eq!(
+            csv_to_samples("h.csv", "# only\n").unwrap_err(),
+            "h.csv: no header line"
+        );
+    }
+}
