@@ -1,0 +1,291 @@
+//! The instrument: one sample through the pipeline, roll and pitch on the dials.
+//!
+//! [`Instrument::step`] is the whole per-sample work of the firmware: the
+//! sample goes through `clino_core::Pipeline` (calibrate → lever arm →
+//! filter → tilt; the `dynamic` filter unless told otherwise) and the
+//! aerospace roll and pitch of the new attitude turn the two dials. While the
+//! host sends dial angles (protocol SET_DIALS, at least one every
+//! [`HOST_DIALS_TIMEOUT_S`]) the dials show those instead.
+//! [`live_step`] is the loop body of a board: poll the MPU6050, read, step,
+//! send the SAMPLE frame.
+
+use crate::dials::Dial;
+use crate::serial::{Frame, send_frame};
+use crate::source::{MicrosClock, Mpu6050Source, Reading};
+use clino_core::filter::FilterSpec;
+use clino_core::pipeline::{Output, Pipeline};
+use clino_core::{ImuSample, tilt::RollPitch};
+use embedded_hal::i2c::I2c;
+use embedded_hal::pwm::SetDutyCycle;
+
+/// How long host dial angles hold without a new one, s (protocol: "at least one every 2 s").
+pub const HOST_DIALS_TIMEOUT_S: f64 = 2.0;
+
+/// Pipeline and dials.
+#[derive(Debug)]
+pub struct Instrument<R, P> {
+    pipeline: Pipeline,
+    roll: Dial<R>,
+    pitch: Dial<P>,
+    host: Option<(f64, f64, f64)>,
+    dial_faults: u32,
+}
+
+impl<R: SetDutyCycle, P: SetDutyCycle> Instrument<R, P> {
+    /// An instrument running `pipeline`, roll on `roll`, pitch on `pitch`.
+    pub fn new(pipeline: Pipeline, roll: Dial<R>, pitch: Dial<P>) -> Self {
+        Instrument {
+            pipeline,
+            roll,
+            pitch,
+            host: None,
+            dial_faults: 0,
+        }
+    }
+
+    /// The source instrument's set-up with clino's filter: the `dynamic`
+    /// filter at its defaults, no calibration, no lever arm.
+    pub fn dynamic(roll: Dial<R>, pitch: Dial<P>) -> Self {
+        Self::new(Pipeline::new(FilterSpec::default()), roll, pitch)
+    }
+
+    /// The pipeline (its counts, attitude, tilt).
+    pub fn pipeline(&self) -> &Pipeline {
+        &self.pipeline
+    }
+
+    /// The roll dial.
+    pub fn roll_dial(&self) -> &Dial<R> {
+        &self.roll
+    }
+
+    /// The pitch dial.
+    pub fn pitch_dial(&self) -> &Dial<P> {
+        &self.pitch
+    }
+
+    /// Times a PWM channel refused a duty cycle (the sample was still processed).
+    pub fn dial_faults(&self) -> u32 {
+        self.dial_faults
+    }
+
+    /// Angles from the host (SET_DIALS), received at sample time `t_s`.
+    pub fn set_host_dials(&mut self, roll_rad: f64, pitch_rad: f64, t_s: f64) {
+        self.host = Some((roll_rad, pitch_rad, t_s));
+    }
+
+    /// Process one sample: the pipeline, then the dials.
+    pub fn step(&mut self, sample: &ImuSample) -> Output {
+        let out = self.pipeline.update(sample);
+        let shown = match self.host {
+            Some((r, p, t)) if sample.t_s - t <= HOST_DIALS_TIMEOUT_S => Some((r, p)),
+            _ => out.attitude.as_ref().map(|q| {
+                let rp = RollPitch::from_attitude(q);
+                (rp.roll, rp.pitch)
+            }),
+        };
+        if let Some((r, p)) = shown {
+            if self.roll.show(r).is_err() {
+                self.dial_faults += 1;
+            }
+            if self.pitch.show(p).is_err() {
+                self.dial_faults += 1;
+            }
+        }
+        out
+    }
+}
+
+/// What one pass of a board's loop did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LiveStep {
+    /// No new sample in the sensor yet.
+    NotReady,
+    /// A sample was read and processed; `sent` tells whether its frame went out.
+    Sample {
+        /// The reading.
+        reading: Reading,
+        /// The pipeline's output.
+        output: Output,
+        /// True when the SAMPLE frame was written.
+        sent: bool,
+    },
+}
+
+/// One pass of a board's main loop: if the MPU6050 has a new sample, read
+/// it, run the instrument and send the SAMPLE frame numbered `*seq` (then
+/// advanced, wrapping). An I²C error is returned as is (the caller counts it
+/// and goes on); a failed serial write is returned as `Err(Right)`.
+#[allow(clippy::type_complexity)]
+pub fn live_step<I2C, C, R, P, W>(
+    source: &mut Mpu6050Source<I2C, C>,
+    instrument: &mut Instrument<R, P>,
+    tx: &mut W,
+    seq: &mut u16,
+) -> Result<LiveStep, LiveError<clino_mpu6050::Error<I2C::Error>, W::Error>>
+where
+    I2C: I2c,
+    C: MicrosClock,
+    R: SetDutyCycle,
+    P: SetDutyCycle,
+    W: embedded_io::Write,
+{
+    if !source.imu().data_ready().map_err(LiveError::Sensor)? {
+        return Ok(LiveStep::NotReady);
+    }
+    let reading = source.read().map_err(LiveError::Sensor)?;
+    let output = instrument.step(&reading.sample);
+    let frame = Frame::Sample {
+        seq: *seq,
+        t_us: reading.t_us,
+        raw: reading.raw,
+    };
+    *seq = seq.wrapping_add(1);
+    let sent = send_frame(tx, &frame).map_err(LiveError::Serial)?;
+    Ok(LiveStep::Sample {
+        reading,
+        output,
+        sent,
+    })
+}
+
+/// Why [`live_step`] failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LiveError<S, W> {
+    /// The sensor (I²C) failed.
+    Sensor(S),
+    /// The serial link failed.
+    Serial(W),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dials::ServoTiming;
+    use clino_core::pipeline::Status;
+    use clino_core::{G0, Vec3};
+    use clino_mpu6050::{Address, Mpu6050, RawSample};
+    use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as T};
+    extern crate std;
+    use std::vec;
+
+    /// A PWM channel that keeps its duty (max 20 000: one count per µs).
+    #[derive(Debug, Default)]
+    struct Pwm(u16);
+    impl embedded_hal::pwm::ErrorType for Pwm {
+        type Error = core::convert::Infallible;
+    }
+    impl SetDutyCycle for Pwm {
+        fn max_duty_cycle(&self) -> u16 {
+            20_000
+        }
+        fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+            self.0 = duty;
+            Ok(())
+        }
+    }
+
+    fn instrument() -> Instrument<Pwm, Pwm> {
+        let t = ServoTiming::default();
+        Instrument::dynamic(Dial::new(Pwm(0), t), Dial::new(Pwm(0), t))
+    }
+
+    #[test]
+    fn a_still_tilted_sensor_turns_the_dials_to_its_roll_and_pitch() {
+        // at rest with roll 30°, pitch −20° (aerospace z-y-x): specific force
+        // f_b = g·(−sin θ, sin φ cos θ, cos φ cos θ)
+        let (r, p) = (30f64.to_radians(), -20f64.to_radians());
+        let f = Vec3::new(-p.sin(), r.sin() * p.cos(), r.cos() * p.cos()) * G0;
+        let mut ins = instrument();
+        for k in 0..50 {
+            let out = ins.step(&ImuSample::new(k as f64 * 0.01, Vec3::zeros(), f));
+            assert_eq!(
+                out.status,
+                if k == 0 {
+                    Status::Initialised
+                } else {
+                    Status::Fused
+                }
+            );
+        }
+        let t = ServoTiming::default();
+        assert_eq!(ins.roll_dial().pulse_us(), t.pulse_us(r));
+        assert_eq!(ins.pitch_dial().pulse_us(), t.pulse_us(p));
+        // 30° → 1781 µs, −20° → 544 + 70/180·1856 = 1265.8 → 1266 µs
+        assert_eq!(ins.roll_dial().pulse_us(), Some(1781));
+        assert_eq!(ins.pitch_dial().pulse_us(), Some(1266));
+
+        // host angles take over for 2 s, then the filter again
+        ins.set_host_dials(0.0, 0.0, 0.5);
+        ins.step(&ImuSample::new(0.51, Vec3::zeros(), f));
+        assert_eq!(ins.roll_dial().pulse_us(), Some(1472));
+        ins.step(&ImuSample::new(2.6, Vec3::zeros(), f));
+        assert_eq!(ins.roll_dial().pulse_us(), Some(1781));
+    }
+
+    #[test]
+    fn no_dial_moves_before_the_filter_has_an_attitude() {
+        let mut ins = instrument();
+        let out = ins.step(&ImuSample::new(0.0, Vec3::zeros(), Vec3::zeros()));
+        assert_eq!(out.status, Status::Waiting);
+        assert_eq!(ins.roll_dial().pulse_us(), None);
+    }
+
+    struct Clock(u32);
+    impl MicrosClock for Clock {
+        fn now_us(&mut self) -> u32 {
+            self.0 += 10_000;
+            self.0
+        }
+    }
+
+    #[test]
+    fn live_step_polls_reads_steps_and_numbers_frames() {
+        let level = RawSample {
+            accel: [0, 0, 16384],
+            temp: 0,
+            gyro: [0, 0, 0],
+        }
+        .to_be_bytes()
+        .to_vec();
+        let nack = embedded_hal::i2c::ErrorKind::NoAcknowledge(
+            embedded_hal::i2c::NoAcknowledgeSource::Data,
+        );
+        let bus = I2cMock::new(&[
+            T::write_read(0x68, vec![0x3A], vec![0]),
+            T::write_read(0x68, vec![0x3A], vec![1]),
+            T::write_read(0x68, vec![0x3B], level.clone()),
+            T::write_read(0x68, vec![0x3A], vec![1]),
+            T::write_read(0x68, vec![0x3B], level).with_error(nack),
+        ]);
+        let mut src = Mpu6050Source::new(Mpu6050::new(bus.clone(), Address::Ad0Low), Clock(0));
+        let mut ins = instrument();
+        let mut wire = [0u8; 64];
+        let mut tx: &mut [u8] = &mut wire;
+        let mut seq = u16::MAX;
+        assert_eq!(
+            live_step(&mut src, &mut ins, &mut tx, &mut seq),
+            Ok(LiveStep::NotReady)
+        );
+        let Ok(LiveStep::Sample {
+            reading,
+            output,
+            sent,
+        }) = live_step(&mut src, &mut ins, &mut tx, &mut seq)
+        else {
+            panic!("no sample")
+        };
+        assert_eq!(reading.t_us, 10_000);
+        assert_eq!(output.status, Status::Initialised);
+        assert!(!sent); // the protocol is not wired yet: nothing written
+        assert_eq!(tx.len(), 64); // nothing consumed
+        assert_eq!(seq, 0); // wrapped
+        assert_eq!(ins.roll_dial().pulse_us(), Some(1472)); // level
+        assert_eq!(
+            live_step(&mut src, &mut ins, &mut tx, &mut seq),
+            Err(LiveError::Sensor(clino_mpu6050::Error::I2c(nack)))
+        );
+        assert_eq!(seq, 0); // no frame for a failed read
+        bus.clone().done();
+    }
+}
