@@ -263,13 +263,36 @@ impl<R: Read> TableReader<R> {
         self.find(&[name]).ok_or_else(|| self.missing(name, ""))
     }
 
+    /// The header names for a message: at most 30 names of at most 40
+    /// characters each (a binary file read as CSV has a "header" of kilobytes).
+    fn header_list(&self) -> String {
+        const NAMES: usize = 30;
+        const CHARS: usize = 40;
+        let mut out: Vec<String> = self
+            .header
+            .iter()
+            .take(NAMES)
+            .map(|h| {
+                if h.chars().count() > CHARS {
+                    format!("{}…", h.chars().take(CHARS).collect::<String>())
+                } else {
+                    h.clone()
+                }
+            })
+            .collect();
+        if self.header.len() > NAMES {
+            out.push(format!("… ({} names in all)", self.header.len()));
+        }
+        out.join(",")
+    }
+
     /// The error for a missing column `name`, with a hint.
     pub fn missing(&self, name: &str, hint: &str) -> Error {
         let mut msg = format!("missing column '{name}'");
         if !hint.is_empty() {
             msg.push_str(&format!(" ({hint})"));
         }
-        msg.push_str(&format!("; header has: {}", self.header.join(",")));
+        msg.push_str(&format!("; header has: {}", self.header_list()));
         self.err(ErrorKind::MissingColumn, msg)
             .at_line(self.header_line)
             .at_column(name)
