@@ -278,11 +278,22 @@ fn six_position_prints_parameters_with_one_sigma() {
     let d = scratch("six");
     let f = six_pose_recording(&d);
     let out = d.join("cal.toml");
-    let o = clino(&["calibrate", "accel", &f, "--model", "six", "-o", out.to_str().unwrap()]);
+    let o = clino(&[
+        "calibrate",
+        "accel",
+        &f,
+        "--model",
+        "six",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let s = stdout(&o);
     assert!(!s.contains("K = [["), "Debug arrays: {s}");
-    assert!(s.contains("parameter        value          1σ            unit"), "{s}");
+    assert!(
+        s.contains("parameter        value          1σ            unit"),
+        "{s}"
+    );
     // M = K⁻¹: the diagonal undoes the scale error, with a small 1σ
     let row = |name: &str| -> (f64, f64) {
         let l = s
@@ -312,8 +323,15 @@ fn a_plot_that_cannot_be_written_keeps_the_calibration() {
     // a name that cannot be a plot is refused before the fit, nothing written
     let missing = d.join("no-such-dir").join("p.svg");
     let o = clino(&[
-        "calibrate", "accel", &f, "--model", "six", "-o", out.to_str().unwrap(),
-        "--plot", missing.to_str().unwrap(),
+        "calibrate",
+        "accel",
+        &f,
+        "--model",
+        "six",
+        "-o",
+        out.to_str().unwrap(),
+        "--plot",
+        missing.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
@@ -322,19 +340,40 @@ fn a_plot_that_cannot_be_written_keeps_the_calibration() {
     let dir_as_plot = d.join("taken.svg");
     std::fs::create_dir_all(&dir_as_plot).unwrap();
     let o = clino(&[
-        "calibrate", "accel", &f, "--model", "six", "-o", out.to_str().unwrap(),
-        "--plot", dir_as_plot.to_str().unwrap(),
+        "calibrate",
+        "accel",
+        &f,
+        "--model",
+        "six",
+        "-o",
+        out.to_str().unwrap(),
+        "--plot",
+        dir_as_plot.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("the calibration was saved to") && e.contains("taken.svg"), "{e}");
+    assert!(
+        e.contains("the calibration was saved to") && e.contains("taken.svg"),
+        "{e}"
+    );
     assert!(stdout(&o).contains("wrote "), "{}", stdout(&o));
-    assert!(std::fs::read_to_string(&out).unwrap().contains("six-position method"));
+    assert!(
+        std::fs::read_to_string(&out)
+            .unwrap()
+            .contains("six-position method")
+    );
     // and a good path writes both
     let good = d.join("ok.svg");
     let o = clino(&[
-        "calibrate", "accel", &f, "--model", "six", "-o", out.to_str().unwrap(),
-        "--plot", good.to_str().unwrap(),
+        "calibrate",
+        "accel",
+        &f,
+        "--model",
+        "six",
+        "-o",
+        out.to_str().unwrap(),
+        "--plot",
+        good.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(std::fs::read_to_string(&good).unwrap().contains("<svg"));
@@ -345,45 +384,122 @@ fn calibrate_help_lists_only_what_applies() {
     let help = |what: &str| stdout(&clino(&["calibrate", what, "--help"]));
     let (accel, gyro, mag) = (help("accel"), help("gyro"), help("mag"));
     for h in [&accel, &gyro, &mag] {
-        assert!(h.contains("--output") && h.contains("--json") && h.contains("--plot"), "{h}");
+        assert!(
+            h.contains("--output") && h.contains("--json") && h.contains("--plot"),
+            "{h}"
+        );
     }
-    assert!(accel.contains("--g-m-s2") && accel.contains("--window-s") && accel.contains("six"), "{accel}");
-    assert!(!accel.contains("--field-ut") && !accel.contains("--accel-calibration"), "{accel}");
-    assert!(gyro.contains("--accel-calibration") && gyro.contains("--min-pose-s"), "{gyro}");
-    assert!(!gyro.contains("--field-ut") && !gyro.contains("--g-m-s2"), "{gyro}");
-    assert!(!gyro.contains("[possible values: matrix, mwd12, mwd30, six]"), "{gyro}");
+    assert!(
+        accel.contains("--g-m-s2") && accel.contains("--window-s") && accel.contains("six"),
+        "{accel}"
+    );
+    assert!(
+        !accel.contains("--field-ut") && !accel.contains("--accel-calibration"),
+        "{accel}"
+    );
+    assert!(
+        gyro.contains("--accel-calibration") && gyro.contains("--min-pose-s"),
+        "{gyro}"
+    );
+    assert!(
+        !gyro.contains("--field-ut") && !gyro.contains("--g-m-s2"),
+        "{gyro}"
+    );
+    assert!(
+        !gyro.contains("[possible values: matrix, mwd12, mwd30, six]"),
+        "{gyro}"
+    );
     assert!(mag.contains("--field-ut"), "{mag}");
-    assert!(!mag.contains("--window-s") && !mag.contains("--accel-calibration") && !mag.contains("--g-m-s2"), "{mag}");
+    assert!(
+        !mag.contains("--window-s")
+            && !mag.contains("--accel-calibration")
+            && !mag.contains("--g-m-s2"),
+        "{mag}"
+    );
     // six is an accelerometer method: the gyro refuses it with the list of models
-    let o = clino(&["calibrate", "gyro", "x.csv", "-o", "x.toml", "--model", "six"]);
+    let o = clino(&[
+        "calibrate",
+        "gyro",
+        "x.csv",
+        "-o",
+        "x.toml",
+        "--model",
+        "six",
+    ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("[possible values: matrix, mwd12, mwd30]"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("[possible values: matrix, mwd12, mwd30]"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]
 fn a_wrong_choice_lists_the_possible_values() {
     let cases: [(&[&str], &str); 6] = [
-        (&["redundancy", "simulate", "--faults", "2", "--fault-kind", "wobble"], "stuck, bias, drift, noise"),
-        (&["redundancy", "sweep", "--fault-kind", "wobble"], "stuck, bias, drift, noise, all"),
+        (
+            &[
+                "redundancy",
+                "simulate",
+                "--faults",
+                "2",
+                "--fault-kind",
+                "wobble",
+            ],
+            "stuck, bias, drift, noise",
+        ),
+        (
+            &["redundancy", "sweep", "--fault-kind", "wobble"],
+            "stuck, bias, drift, noise, all",
+        ),
         (&["testbench", "conical", "--axis", "w"], "x, y, z"),
-        (&["testbench", "static", "--sensor", "bmi160"], "ideal, mpu6050, mpu6050-raw"),
+        (
+            &["testbench", "static", "--sensor", "bmi160"],
+            "ideal, mpu6050, mpu6050-raw",
+        ),
         (&["allan", "r.csv", "--gaps", "fill"], "refuse, longest"),
-        (&["fuse", "in.csv", "--gyro-unit", "furlong"], "rad/s, deg/s"),
+        (
+            &["fuse", "in.csv", "--gyro-unit", "furlong"],
+            "rad/s, deg/s",
+        ),
     ];
     for (args, values) in cases {
         let o = clino(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         let e = stderr(&o);
-        assert!(e.contains("invalid value") && e.contains(&format!("[possible values: {values}]")), "{args:?}: {e}");
+        assert!(
+            e.contains("invalid value") && e.contains(&format!("[possible values: {values}]")),
+            "{args:?}: {e}"
+        );
     }
     for (args, values) in [
         (&["fuse", "in.csv", "--accel-unit", "ft/s2"][..], "m/s2, g"),
-        (&["fuse", "in.csv", "--integrator", "euler"][..], "exact, rectangle"),
-        (&["testbench", "analyze", "r.csv", "--excitation", "sine"][..], "conical, orbit"),
-        (&["calibrate", "mag", "r.csv", "-o", "c.toml", "--model", "mwd99"][..], "matrix, mwd12, mwd30"),
+        (
+            &["fuse", "in.csv", "--integrator", "euler"][..],
+            "exact, rectangle",
+        ),
+        (
+            &["testbench", "analyze", "r.csv", "--excitation", "sine"][..],
+            "conical, orbit",
+        ),
+        (
+            &[
+                "calibrate",
+                "mag",
+                "r.csv",
+                "-o",
+                "c.toml",
+                "--model",
+                "mwd99",
+            ][..],
+            "matrix, mwd12, mwd30",
+        ),
     ] {
         let e = stderr(&clino(args));
-        assert!(e.contains(&format!("[possible values: {values}]")), "{args:?}: {e}");
+        assert!(
+            e.contains(&format!("[possible values: {values}]")),
+            "{args:?}: {e}"
+        );
     }
 }
 
@@ -397,13 +513,28 @@ fn the_old_spellings_are_still_accepted() {
     let f = write(&d, "bare.csv", &text);
     let mut outs = Vec::new();
     for (gu, au) in [("deg/s", "g"), ("dps", "G"), ("deg_s", "g"), ("DEG/S", "g")] {
-        let o = clino(&["fuse", &f, "-f", "mahony", "--gyro-unit", gu, "--accel-unit", au, "-o", "-"]);
+        let o = clino(&[
+            "fuse",
+            &f,
+            "-f",
+            "mahony",
+            "--gyro-unit",
+            gu,
+            "--accel-unit",
+            au,
+            "-o",
+            "-",
+        ]);
         assert!(o.status.success(), "{gu} {au}: {}", stderr(&o));
         outs.push(stdout(&o));
     }
     assert!(outs.windows(2).all(|w| w[0] == w[1]));
     for u in ["rad/s", "rad_s", "m/s2"] {
-        let flag = if u == "m/s2" { "--accel-unit" } else { "--gyro-unit" };
+        let flag = if u == "m/s2" {
+            "--accel-unit"
+        } else {
+            "--gyro-unit"
+        };
         let o = clino(&["fuse", &f, "-f", "mahony", flag, u, "-o", "-"]);
         assert!(o.status.success(), "{u}: {}", stderr(&o));
     }

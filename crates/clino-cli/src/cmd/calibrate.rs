@@ -3,7 +3,9 @@
 use super::OutputArgs;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
-use clino::calib::{self, CalibOptions, CalibrationFile, Method, ModelKind, Recording, StaticOptions};
+use clino::calib::{
+    self, CalibOptions, CalibrationFile, Method, ModelKind, Recording, StaticOptions,
+};
 use clino::core::sensor::TriadKind;
 use clino::report::text::calib as text;
 use std::path::{Path, PathBuf};
@@ -184,7 +186,12 @@ pub fn run(a: Args) -> Result<()> {
                 accel,
                 ..CalibOptions::default()
             };
-            fit(TriadKind::Gyro, Method::Fit(f.model.into()), &f.common, opts)
+            fit(
+                TriadKind::Gyro,
+                Method::Fit(f.model.into()),
+                &f.common,
+                opts,
+            )
         }
         What::Mag(f) => {
             let opts = CalibOptions {

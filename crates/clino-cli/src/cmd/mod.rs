@@ -10,8 +10,8 @@ pub mod stewart;
 pub mod survey;
 pub mod testbench;
 
-use clino::io::{AccelUnit, GyroUnit, ReadOptions};
 use clap::ValueEnum;
+use clino::io::{AccelUnit, GyroUnit, ReadOptions};
 use std::path::PathBuf;
 
 /// The output flags every command with a JSON form and a plot shares.
@@ -26,7 +26,11 @@ pub struct OutputArgs {
 }
 
 /// Print `value` as pretty JSON, or `text` as it is.
-pub fn print_result<T: serde::Serialize>(json: bool, value: &T, text: impl FnOnce() -> String) -> anyhow::Result<()> {
+pub fn print_result<T: serde::Serialize>(
+    json: bool,
+    value: &T,
+    text: impl FnOnce() -> String,
+) -> anyhow::Result<()> {
     if json {
         println!("{}", serde_json::to_string_pretty(value)?);
     } else {
@@ -99,7 +103,10 @@ pub enum SensorArg {
 impl SensorArg {
     /// The library model, band-limited to `bandwidth_hz` when given.
     pub fn model(self, bandwidth_hz: Option<f64>) -> anyhow::Result<clino::sim::ImuModel> {
-        let name = self.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+        let name = self
+            .to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default();
         let m = clino::sim::ImuModel::preset(&name)?;
         Ok(match bandwidth_hz {
             Some(b) => m.with_bandwidth(b),
@@ -215,7 +222,10 @@ pub struct GainArgs {
 impl GainArgs {
     /// The flags given, as (parameter key, value).
     pub fn params(&self) -> Vec<(&'static str, String)> {
-        let integrator = self.integrator.and_then(|i| i.to_possible_value()).map(|v| v.get_name().to_string());
+        let integrator = self
+            .integrator
+            .and_then(|i| i.to_possible_value())
+            .map(|v| v.get_name().to_string());
         [
             ("k", &self.k),
             ("kp", &self.kp),

@@ -280,12 +280,15 @@ fn sweep(a: SweepArgs) -> anyhow::Result<()> {
 }
 
 fn diagnose(a: DiagnoseArgs) -> anyhow::Result<()> {
-    let acc = SixAxisAccelerometer::new(a.mass_kg, a.half_edge_m, parse_stiffness(&a.stiffness_n_m)?)?;
+    let acc =
+        SixAxisAccelerometer::new(a.mass_kg, a.half_edge_m, parse_stiffness(&a.stiffness_n_m)?)?;
     let rec = recording::read_csv(&a.recording)?;
     let d = recording::diagnose_recording(&acc, &a.diag.noise(), &a.diag.config(), &rec)?;
     if let Some(p) = &a.out {
         let restored = recording::restore_recording(&acc, &a.diag.noise(), &rec, &d, 10)?;
         recording::write_restored_csv(create(p)?, &restored)?;
     }
-    print_result(a.json, &d, || text::diagnosis(&a.recording, &d, &rec.ignored_columns))
+    print_result(a.json, &d, || {
+        text::diagnosis(&a.recording, &d, &rec.ignored_columns)
+    })
 }

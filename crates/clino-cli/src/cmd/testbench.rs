@@ -316,7 +316,9 @@ fn orbit(o: OrbitArgs) -> anyhow::Result<()> {
         plots::orbit_plot(p, &pts)?;
     }
     let on_platform = cfg.platform.is_some();
-    print_result(o.common.output.json, &pts, || text::orbit(&pts, on_platform))
+    print_result(o.common.output.json, &pts, || {
+        text::orbit(&pts, on_platform)
+    })
 }
 
 fn static_cmd(s: StaticArgs) -> anyhow::Result<()> {

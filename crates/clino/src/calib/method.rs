@@ -120,12 +120,20 @@ pub fn calibrate(
         (TriadKind::Accel, Method::Fit(model)) => accel_fit(rec, model, source, opts),
         (TriadKind::Mag, Method::Fit(model)) => {
             let fit = super::calibrate_mag(rec, model, opts.field_ut)?;
-            let what = format!("{} ellipsoid fit, {} samples, {source}", model.name(), fit.observations);
+            let what = format!(
+                "{} ellipsoid fit, {} samples, {source}",
+                model.name(),
+                fit.observations
+            );
             Ok(from_fit(fit, &what, |fit| Outcome::MagFit { fit }))
         }
         (TriadKind::Gyro, Method::Fit(model)) if rec.ref_gyr.is_some() => {
             let fit = gyro::rate_table(rec, model)?;
-            let what = format!("{} rate-table fit, {} segments, {source}", model.name(), fit.observations);
+            let what = format!(
+                "{} rate-table fit, {} segments, {source}",
+                model.name(),
+                fit.observations
+            );
             Ok(from_fit(fit, &what, |fit| Outcome::RateTable { fit }))
         }
         (TriadKind::Gyro, Method::Fit(model)) => rotations(rec, model, source, opts),
@@ -144,7 +152,11 @@ fn from_fit(fit: TriadFit, method: &str, wrap: impl FnOnce(TriadFit) -> Outcome)
 fn six_position(rec: &Recording, source: &str, opts: &CalibOptions) -> Result<Calibration> {
     let statics = super::detect_static(rec, &opts.statics)?;
     let six = six::six_position(&statics.poses, opts.g_m_s2)?;
-    let sigma = six.params.iter().map(|p| (p.name.clone(), p.sigma)).collect();
+    let sigma = six
+        .params
+        .iter()
+        .map(|p| (p.name.clone(), p.sigma))
+        .collect();
     let entry = super::entry(
         TriadKind::Accel,
         six.calibration,
@@ -154,23 +166,40 @@ fn six_position(rec: &Recording, source: &str, opts: &CalibOptions) -> Result<Ca
     );
     Ok(Calibration {
         kind: TriadKind::Accel,
-        outcome: Outcome::SixPosition { statics, six, g_m_s2: opts.g_m_s2 },
+        outcome: Outcome::SixPosition {
+            statics,
+            six,
+            g_m_s2: opts.g_m_s2,
+        },
         entry,
         notes: Vec::new(),
     })
 }
 
-fn accel_fit(rec: &Recording, model: ModelKind, source: &str, opts: &CalibOptions) -> Result<Calibration> {
+fn accel_fit(
+    rec: &Recording,
+    model: ModelKind,
+    source: &str,
+    opts: &CalibOptions,
+) -> Result<Calibration> {
     let (statics, fit) = super::calibrate_accel(rec, model, &opts.statics, opts.g_m_s2)?;
     let what = format!(
         "{} multi-position fit, {} poses, {source}",
         model.name(),
         fit.observations
     );
-    Ok(from_fit(fit, &what, |fit| Outcome::AccelFit { statics, fit }))
+    Ok(from_fit(fit, &what, |fit| Outcome::AccelFit {
+        statics,
+        fit,
+    }))
 }
 
-fn rotations(rec: &Recording, model: ModelKind, source: &str, opts: &CalibOptions) -> Result<Calibration> {
+fn rotations(
+    rec: &Recording,
+    model: ModelKind,
+    source: &str,
+    opts: &CalibOptions,
+) -> Result<Calibration> {
     if model != ModelKind::Matrix {
         return Err(Error::new(
             ErrorKind::InvalidInput,
@@ -187,13 +216,19 @@ fn rotations(rec: &Recording, model: ModelKind, source: &str, opts: &CalibOption
     let entry = super::entry(
         TriadKind::Gyro,
         r.calibration,
-        &format!("rotations between {} static poses, {source}", statics.poses.len()),
+        &format!(
+            "rotations between {} static poses, {source}",
+            statics.poses.len()
+        ),
         "gravity directions fix the frame to the accelerometer's; bias is the mean static reading (Earth rate neglected)",
         sigma,
     );
     Ok(Calibration {
         kind: TriadKind::Gyro,
-        outcome: Outcome::Rotations { statics, rotations: r },
+        outcome: Outcome::Rotations {
+            statics,
+            rotations: r,
+        },
         entry,
         notes,
     })
@@ -218,10 +253,14 @@ impl Calibration {
     /// Plot the residuals before and after (per pose, segment or move) to `path` (SVG or PNG).
     pub fn plot(&self, path: &Path) -> Result<()> {
         match &self.outcome {
-            Outcome::AccelFit { fit, .. } | Outcome::MagFit { fit } | Outcome::RateTable { fit } => {
-                super::plot_residuals(path, fit)
-            }
-            Outcome::SixPosition { statics, six, g_m_s2 } => {
+            Outcome::AccelFit { fit, .. }
+            | Outcome::MagFit { fit }
+            | Outcome::RateTable { fit } => super::plot_residuals(path, fit),
+            Outcome::SixPosition {
+                statics,
+                six,
+                g_m_s2,
+            } => {
                 let g = *g_m_s2;
                 let e: Vec<_> = six::pose_norm_errors(&statics.poses, &six.calibration, g)
                     .into_iter()

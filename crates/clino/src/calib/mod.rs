@@ -121,7 +121,11 @@ pub(crate) fn calibrate_accel(
 /// samples (at most 3000, evenly decimated). `field_ut` is the local field
 /// magnitude; when `None` the mean raw magnitude about the centre is used (the
 /// scale of a magnetometer is not observable from its own data).
-pub(crate) fn calibrate_mag(rec: &Recording, model: ModelKind, field_ut: Option<f64>) -> Result<TriadFit> {
+pub(crate) fn calibrate_mag(
+    rec: &Recording,
+    model: ModelKind,
+    field_ut: Option<f64>,
+) -> Result<TriadFit> {
     let mag = rec.mag.as_ref().ok_or_else(|| {
         rec.error(
             ErrorKind::MissingColumn,

@@ -242,7 +242,14 @@ mod tests {
         let (s_pose, n) = (0.06, 50usize); // reading scatter, samples per pose
         let per_axis = Normal::new(0.0, s_pose / (3.0 * n as f64).sqrt()).unwrap();
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let dirs = [Vec3::x(), -Vec3::x(), Vec3::y(), -Vec3::y(), Vec3::z(), -Vec3::z()];
+        let dirs = [
+            Vec3::x(),
+            -Vec3::x(),
+            Vec3::y(),
+            -Vec3::y(),
+            Vec3::z(),
+            -Vec3::z(),
+        ];
         let trials = 3000;
         let mut sum = [0.0f64; 12];
         let mut sum2 = [0.0f64; 12];
@@ -274,7 +281,12 @@ mod tests {
             let sd = (sum2[j] / trials as f64 - mean * mean).max(0.0).sqrt();
             let ratio = reported[j].sigma / sd;
             // 3000 trials: the spread itself is known to about ±1.3 % (1σ)
-            assert!((ratio - 1.0).abs() < 0.06, "{}: {} vs {sd}", reported[j].name, reported[j].sigma);
+            assert!(
+                (ratio - 1.0).abs() < 0.06,
+                "{}: {} vs {sd}",
+                reported[j].name,
+                reported[j].sigma
+            );
         }
     }
 }

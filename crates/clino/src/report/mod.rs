@@ -197,7 +197,11 @@ pub(crate) fn legend_place(
     }
     // legend box in px (14 px font: about 8 px a character, 18 px a line;
     // 30 px sample, 5 px margins, 5 px from the edge), as fractions of the area
-    let chars = labelled.iter().map(|s| s.label.chars().count()).max().unwrap_or(0);
+    let chars = labelled
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0);
     let w = ((8 * chars + 50) as f64 / AREA_PX.0).min(0.9);
     let h = ((18 * labelled.len() + 20) as f64 / AREA_PX.1).min(0.9);
     let norm = |v: f64, (a, b): (f64, f64), log: bool| {
@@ -208,7 +212,12 @@ pub(crate) fn legend_place(
         }
     };
     let mut counts = [0usize; 4];
-    let corners = [Corner::UpperRight, Corner::UpperLeft, Corner::LowerRight, Corner::LowerLeft];
+    let corners = [
+        Corner::UpperRight,
+        Corner::UpperLeft,
+        Corner::LowerRight,
+        Corner::LowerLeft,
+    ];
     let mut count = |u: f64, v: f64| {
         for (k, c) in corners.iter().enumerate() {
             let in_x = match c {
@@ -242,7 +251,9 @@ pub(crate) fn legend_place(
             // every 1 % of the area (dense traces are covered by their points)
             if !s.markers && pts.len() < 5000 && i + 1 < pts.len() {
                 let (u1, v1) = pts[i + 1];
-                let n = ((u1 - u).abs().max((v1 - v).abs()) / 0.01).ceil().min(200.0) as usize;
+                let n = ((u1 - u).abs().max((v1 - v).abs()) / 0.01)
+                    .ceil()
+                    .min(200.0) as usize;
                 for j in 1..n {
                     let t = j as f64 / n as f64;
                     count(u + t * (u1 - u), v + t * (v1 - v));
@@ -396,15 +407,28 @@ mod tests {
     #[test]
     fn legend_goes_to_an_empty_corner() {
         // a rising line runs through the lower-left and upper-right corners
-        let rising = [Series::line("rising", (0..=10).map(|i| (i as f64, i as f64)).collect())];
+        let rising = [Series::line(
+            "rising",
+            (0..=10).map(|i| (i as f64, i as f64)).collect(),
+        )];
         let (c, y) = place(&rising);
         assert_eq!(c, Corner::UpperLeft);
-        assert_eq!(y, bounds(&rising, false, false).1, "the range is not changed");
+        assert_eq!(
+            y,
+            bounds(&rising, false, false).1,
+            "the range is not changed"
+        );
         // a falling line leaves the upper right empty
-        let falling = [Series::line("falling", (0..=10).map(|i| (i as f64, -(i as f64))).collect())];
+        let falling = [Series::line(
+            "falling",
+            (0..=10).map(|i| (i as f64, -(i as f64))).collect(),
+        )];
         assert_eq!(place(&falling).0, Corner::UpperRight);
         // a line with two points only: its segment is sampled, not just its ends
-        let two = [Series::line("two", vec![(0.0, 0.0), (1.0, 1.0)]), Series::markers("m", vec![(0.0, 1.0)])];
+        let two = [
+            Series::line("two", vec![(0.0, 0.0), (1.0, 1.0)]),
+            Series::markers("m", vec![(0.0, 1.0)]),
+        ];
         assert_eq!(place(&two).0, Corner::LowerRight);
     }
 
@@ -413,7 +437,9 @@ mod tests {
         // a fast sine fills the whole area: the top is raised by the legend's height
         let sine = [Series::line(
             "sine",
-            (0..2000).map(|i| (i as f64, (i as f64 * 0.3).sin())).collect(),
+            (0..2000)
+                .map(|i| (i as f64, (i as f64 * 0.3).sin()))
+                .collect(),
         )];
         let (_, y) = bounds(&sine, false, false);
         let (c, y2) = place(&sine);

@@ -48,8 +48,8 @@ use crate::{Error, ErrorKind, Result};
 use clino_core::ImuSample;
 pub use fit::FittedModel;
 pub use model::{B_FLOOR, CONFIDENCE, NoiseModel};
-pub use run::{AllanReport, allan_record, allan_simulated};
 use model::{avar_cov_matrix, chi2_factors, edf_white};
+pub use run::{AllanReport, allan_record, allan_simulated};
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 

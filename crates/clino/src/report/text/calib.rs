@@ -31,7 +31,10 @@ pub fn calibration(c: &Calibration) -> String {
         }
         Outcome::AccelFit { statics, fit } => format!("{}\n{}", statics.table(), fit.summary()),
         Outcome::MagFit { fit } | Outcome::RateTable { fit } => fit.summary(),
-        Outcome::Rotations { statics, rotations: r } => format!(
+        Outcome::Rotations {
+            statics,
+            rotations: r,
+        } => format!(
             "{}\ngyro from rotations: rms gravity-direction mismatch {:.4}° before, {:.4}° after\nbias {:?} rad/s\n{}",
             statics.table(),
             r.rms_before_deg,

@@ -171,7 +171,8 @@ mod tests {
 
     #[test]
     fn simulation_text_comes_from_the_report() {
-        let sim = Simulator::new(&SixAxisAccelerometer::reference(), &SimConfig::default()).unwrap();
+        let sim =
+            Simulator::new(&SixAxisAccelerometer::reference(), &SimConfig::default()).unwrap();
         let r = sim
             .run(FaultSet::from_label("239").unwrap(), FaultKind::Bias, 7)
             .unwrap()

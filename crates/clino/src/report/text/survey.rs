@@ -5,8 +5,7 @@ use crate::survey::SurveyReport;
 /// The station table (inclination, azimuth, toolfaces, field totals, dip),
 /// the roll-test QC verdicts and the minimum-curvature trajectory.
 pub fn survey(r: &SurveyReport) -> String {
-    let o =
-        |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
+    let o = |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
     let mut s = String::from(
         "   md_m    inc_deg    azi_deg  gtf_deg  mtf_deg     G_L_g     H_L_uT  dip_deg\n",
     );
@@ -70,14 +69,20 @@ mod tests {
     fn a_vertical_then_tilted_survey() {
         // tool z down the hole: vertical (0°), then 90° inclined toward tool x
         let csv = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,9.80665\n30,9.80665,0,0\n";
-        let r = crate::survey::survey(&parse_stations(csv.as_bytes()).unwrap(), &SurveyOptions::default())
-            .unwrap();
+        let r = crate::survey::survey(
+            &parse_stations(csv.as_bytes()).unwrap(),
+            &SurveyOptions::default(),
+        )
+        .unwrap();
         let s = survey(&r);
         let lines: Vec<&str> = s.lines().collect();
         assert!(lines[0].starts_with("   md_m    inc_deg    azi_deg"), "{s}");
         assert!(lines[1].starts_with("   0.00     0.0000          -"), "{s}");
         assert!(
-            lines[2].starts_with(&format!("{:7.2} {:10.4}", 30.0, r.stations[1].inclination_deg)),
+            lines[2].starts_with(&format!(
+                "{:7.2} {:10.4}",
+                30.0, r.stations[1].inclination_deg
+            )),
             "{s}"
         );
         assert!(s.contains("\ntrajectory (minimum curvature, tie-on at the first station)\n"));

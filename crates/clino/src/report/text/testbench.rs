@@ -173,7 +173,10 @@ mod tests {
             "  0.500       0.0512       0.1000          0.0200           0.0300         NaN        NaN        NaN              NaN              NaN"
         );
         assert_eq!(
-            orbit(&[p], true).lines().filter(|l| l.starts_with('#')).count(),
+            orbit(&[p], true)
+                .lines()
+                .filter(|l| l.starts_with('#'))
+                .count(),
             2
         );
     }

@@ -31,7 +31,12 @@ pub struct AllanReport {
     pub axes: Vec<AxisAllan>,
 }
 
-fn report(record: Option<StaticRecord>, samples: usize, rate_hz: f64, axes: Vec<AxisAllan>) -> AllanReport {
+fn report(
+    record: Option<StaticRecord>,
+    samples: usize,
+    rate_hz: f64,
+    axes: Vec<AxisAllan>,
+) -> AllanReport {
     let mut warnings: Vec<String> = record.iter().flat_map(|r| r.notes.clone()).collect();
     for ax in &axes {
         if ax.status != ChannelStatus::Ok {
