@@ -62,7 +62,7 @@ mod tests {
         }];
         assert_eq!(
             params_table(&p),
-            "parameter        value          1σ            unit\nM_xy         1.250000e-2     3.500e-4   1 (SI per raw)\n"
+            "parameter        value          1σ            unit\nM_xy          1.250000e-2     3.500e-4   1 (SI per raw)\n"
         );
     }
 }

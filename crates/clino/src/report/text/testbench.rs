@@ -130,7 +130,7 @@ mod tests {
         ConicalPoint {
             freq_hz: f,
             alpha_deg: 5.0,
-            gyro_x_db: Some(-0.0125),
+            gyro_x_db: Some(-0.0123),
             gyro_y_db: Some(0.25),
             gyro_z_db: None,
             accel_x_db: Some(-1.5),
@@ -150,7 +150,7 @@ mod tests {
         assert!(lines[0].starts_with("freq_hz  alpha_deg gyro_x_db"));
         assert_eq!(
             lines[1],
-            "  0.500      5.000    -0.013    +0.250         -     -1.500     -1.250    -3.000    -3.125          -      +12.000"
+            "  0.500      5.000    -0.012    +0.250         -     -1.500     -1.250    -3.000    -3.125          -      +12.000"
         );
         assert!(lines[2].starts_with("  3.150 "));
     }
@@ -202,8 +202,8 @@ mod tests {
             static_test(&r),
             "static test: filter dynamic, 590.0 s, 118000 samples\n\
              angle  mean_deg   drift_deg  drift_rate_deg_s  noise_std_deg  pp_deg\n\
-             roll     +0.5000  -1.000e-3         +2.000e-6        3.000e-3   2.000e-2\n\
-             pitch    +0.5000  -1.000e-3         +2.000e-6        3.000e-3   2.000e-2\n"
+             roll     +0.5000   -1.000e-3         +2.000e-6       3.000e-3   2.000e-2\n\
+             pitch    +0.5000   -1.000e-3         +2.000e-6       3.000e-3   2.000e-2\n"
         );
     }
 
