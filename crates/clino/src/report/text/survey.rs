@@ -67,8 +67,8 @@ mod tests {
 
     #[test]
     fn a_vertical_then_tilted_survey() {
-        // tool z down the hole: vertical (0°), then 90° inclined toward tool x
-        let csv = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,9.80665\n30,9.80665,0,0\n";
+        // tool z down the hole (specific force up: -g on z when vertical), then horizontal
+        let csv = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n0,0,0,-9.80665\n30,9.80665,0,0\n";
         let r = crate::survey::survey(
             &parse_stations(csv.as_bytes()).unwrap(),
             &SurveyOptions::default(),
