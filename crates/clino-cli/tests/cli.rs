@@ -169,7 +169,6 @@ fn bad_inputs_fail_cleanly_with_location() {
     let good = write(&d, "good.csv", &format!("{HEAD}0,0,0,0,0,0,9.8\n"));
     for args in [
         vec!["fuse", good.as_str(), "--filter", "kalman"],
-        vec!["fuse", good.as_str(), "--gyro-unit", "rpm"],
         vec!["fuse", good.as_str(), "--k", "2"],
         vec!["fuse", good.as_str(), "--rate=-5"],
         vec!["eval", good.as_str()],
@@ -182,6 +181,14 @@ fn bad_inputs_fail_cleanly_with_location() {
             stderr(&o)
         );
     }
+    // a unit that is not one of the choices: clap's usage error (exit 2) with the list
+    let o = clino(&["fuse", good.as_str(), "--gyro-unit", "rpm"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("[possible values: rad/s, deg/s]"),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

@@ -1,9 +1,14 @@
 //! `clino calibrate`: estimate sensor calibrations from recordings, or apply one.
 
+use super::OutputArgs;
 use anyhow::{Context, Result};
-use clino::calib::{self, CalibrationFile, ModelKind, Recording, StaticOptions, gyro, six};
+use clap::ValueEnum;
+use clino::calib::{
+    self, CalibOptions, CalibrationFile, Method, ModelKind, Recording, StaticOptions,
+};
 use clino::core::sensor::TriadKind;
-use std::path::PathBuf;
+use clino::report::text::calib as text;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `clino calibrate`.
 #[derive(clap::Args)]
@@ -14,50 +19,136 @@ pub struct Args {
 
 #[derive(clap::Subcommand)]
 enum What {
-    /// Accelerometer: static poses (held still by hand or on a fixture), multi-position fit.
-    Accel(Fit),
+    /// Accelerometer: static poses (held still by hand or on a fixture), multi-position fit or six-position method.
+    Accel(AccelArgs),
     /// Gyro: rate-table runs (ref_gyr_*_rad_s columns) or rotations between static poses.
-    Gyro(Fit),
+    Gyro(GyroArgs),
     /// Magnetometer: hard/soft iron by ellipsoid fit over all samples.
-    Mag(Fit),
+    Mag(MagArgs),
     /// Apply a calibration file to a recording (same columns, calibrated).
     Apply(Apply),
 }
 
+/// A calibration model fitted to a recording.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum ModelArg {
+    /// Bias and a full scale/misalignment matrix.
+    Matrix,
+    /// MWD model, 12 parameters (nominal temperature).
+    Mwd12,
+    /// MWD model, 30 parameters (cubic in temperature).
+    Mwd30,
+}
+
+impl From<ModelArg> for ModelKind {
+    fn from(m: ModelArg) -> Self {
+        match m {
+            ModelArg::Matrix => ModelKind::Matrix,
+            ModelArg::Mwd12 => ModelKind::Mwd12,
+            ModelArg::Mwd30 => ModelKind::Mwd30,
+        }
+    }
+}
+
+/// How the accelerometer is calibrated.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum AccelModelArg {
+    /// Bias and a full scale/misalignment matrix (multi-position fit).
+    Matrix,
+    /// MWD model, 12 parameters (multi-position fit).
+    Mwd12,
+    /// MWD model, 30 parameters, cubic in temperature (multi-position fit).
+    Mwd30,
+    /// Six-position method: each housing axis up and down on a fixture.
+    Six,
+}
+
+impl From<AccelModelArg> for Method {
+    fn from(m: AccelModelArg) -> Self {
+        match m {
+            AccelModelArg::Matrix => Method::Fit(ModelKind::Matrix),
+            AccelModelArg::Mwd12 => Method::Fit(ModelKind::Mwd12),
+            AccelModelArg::Mwd30 => Method::Fit(ModelKind::Mwd30),
+            AccelModelArg::Six => Method::SixPosition,
+        }
+    }
+}
+
+/// What every calibration reads and writes.
 #[derive(clap::Args)]
-struct Fit {
-    /// Recording (CSV: t_s, acc_*_m_s2, gyr_*_rad_s, mag_*_uT, temp_c, ref_inclination_deg).
+struct Common {
+    /// Recording (CSV or Parquet: t_s and the triad's columns, e.g. acc_*_m_s2, gyr_*_rad_s, mag_*_uT; temp_c).
     recording: PathBuf,
-    /// Model: matrix (bias + scale/misalignment), mwd12, mwd30 (cubic temperature), six (six-position, accel only).
-    #[arg(long, default_value = "mwd12")]
-    model: String,
     /// Output calibration file (TOML).
     #[arg(short, long)]
     output: PathBuf,
     /// Add to an existing calibration file instead of replacing it.
     #[arg(long)]
     update: bool,
-    /// Print the result as JSON.
-    #[arg(long)]
-    json: bool,
-    /// Plot residuals per pose before/after (SVG or PNG).
-    #[arg(long)]
-    plot: Option<PathBuf>,
-    /// Local gravity, m/s².
-    #[arg(long, default_value_t = clino::core::G0)]
-    g_m_s2: f64,
-    /// Local field magnitude, µT (magnetometer; default: mean raw magnitude).
-    #[arg(long)]
-    field_ut: Option<f64>,
+    // Print the result as JSON; --plot draws the residuals before/after.
+    #[command(flatten)]
+    out: OutputArgs,
+}
+
+/// Static-pose detection.
+#[derive(clap::Args)]
+struct StaticArgs {
     /// Static detection window, s.
     #[arg(long, default_value_t = 0.5)]
     window_s: f64,
     /// Shortest static pose, s.
     #[arg(long, default_value_t = 1.0)]
     min_pose_s: f64,
-    /// Accelerometer calibration to apply first (gyro from rotations; default: the accel entry of the file given with --update).
+}
+
+impl StaticArgs {
+    fn options(&self) -> StaticOptions {
+        StaticOptions {
+            window_s: self.window_s,
+            min_duration_s: self.min_pose_s,
+            ..Default::default()
+        }
+    }
+}
+
+#[derive(clap::Args)]
+struct AccelArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Model (multi-position fit) or the six-position method. The recording may carry ref_inclination_deg.
+    #[arg(long, value_enum, default_value = "mwd12")]
+    model: AccelModelArg,
+    /// Local gravity, m/s².
+    #[arg(long, default_value_t = clino::core::G0)]
+    g_m_s2: f64,
+    #[command(flatten)]
+    statics: StaticArgs,
+}
+
+#[derive(clap::Args)]
+struct GyroArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Model (rotations between static poses: matrix only).
+    #[arg(long, value_enum, default_value = "mwd12")]
+    model: ModelArg,
+    #[command(flatten)]
+    statics: StaticArgs,
+    /// Accelerometer calibration giving the gravity directions (rotations between poses; default: the accel entry of the file given with --update).
     #[arg(long)]
     accel_calibration: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct MagArgs {
+    #[command(flatten)]
+    common: Common,
+    /// Model.
+    #[arg(long, value_enum, default_value = "mwd12")]
+    model: ModelArg,
+    /// Local field magnitude, µT (default: mean raw magnitude).
+    #[arg(long)]
+    field_ut: Option<f64>,
 }
 
 #[derive(clap::Args)]
@@ -77,9 +168,38 @@ struct Apply {
 /// Run `clino calibrate`.
 pub fn run(a: Args) -> Result<()> {
     match a.what {
-        What::Accel(f) => fit(TriadKind::Accel, f),
-        What::Gyro(f) => fit(TriadKind::Gyro, f),
-        What::Mag(f) => fit(TriadKind::Mag, f),
+        What::Accel(f) => {
+            let opts = CalibOptions {
+                statics: f.statics.options(),
+                g_m_s2: f.g_m_s2,
+                ..CalibOptions::default()
+            };
+            fit(TriadKind::Accel, f.model.into(), &f.common, opts)
+        }
+        What::Gyro(f) => {
+            let accel = match &f.accel_calibration {
+                Some(p) => CalibrationFile::load(p)?.accel.map(|e| e.calibration()),
+                None => existing(&f.common)?.accel.map(|e| e.calibration()),
+            };
+            let opts = CalibOptions {
+                statics: f.statics.options(),
+                accel,
+                ..CalibOptions::default()
+            };
+            fit(
+                TriadKind::Gyro,
+                Method::Fit(f.model.into()),
+                &f.common,
+                opts,
+            )
+        }
+        What::Mag(f) => {
+            let opts = CalibOptions {
+                field_ut: f.field_ut,
+                ..CalibOptions::default()
+            };
+            fit(TriadKind::Mag, Method::Fit(f.model.into()), &f.common, opts)
+        }
         What::Apply(p) => apply(p),
     }
 }
@@ -97,173 +217,50 @@ fn apply(p: Apply) -> Result<()> {
     Ok(())
 }
 
-fn fit(kind: TriadKind, f: Fit) -> Result<()> {
-    let rec = Recording::load(&f.recording)?;
-    let statics = StaticOptions {
-        window_s: f.window_s,
-        min_duration_s: f.min_pose_s,
-        use_mag: kind == TriadKind::Mag && rec.acc.is_none(),
-        ..Default::default()
-    };
-    let mut file = if f.update && f.output.exists() {
-        CalibrationFile::load(&f.output)?
+/// The calibration file updated (`--update` of an existing file) or a new one.
+fn existing(c: &Common) -> Result<CalibrationFile> {
+    Ok(if c.update && c.output.exists() {
+        CalibrationFile::load(&c.output)?
     } else {
         CalibrationFile::default()
-    };
-    let name = f.recording.display().to_string();
-    let (json, text, tri) = match (kind, f.model.as_str()) {
-        (TriadKind::Accel, "six") => {
-            let report = calib::detect_static(&rec, &statics)?;
-            let s = six::six_position(&report.poses, f.g_m_s2)?;
-            if let Some(p) = &f.plot {
-                let e: Vec<_> = six::pose_norm_errors(&report.poses, &s.calibration, f.g_m_s2)
-                    .into_iter()
-                    .map(|(i, b, a)| (i, b / f.g_m_s2 * 1e3, a / f.g_m_s2 * 1e3))
-                    .collect();
-                calib::plot_before_after(
-                    p,
-                    "accel calibration (six-position): magnitude error per pose",
-                    "magnitude error (mg)",
-                    &e,
-                )?;
-            }
-            let entry = calib::entry(
-                kind,
-                s.calibration,
-                &format!("six-position method, {name}"),
-                "the fixture defines the axes: all 12 parameters determined",
-                Default::default(),
-            );
-            let json = serde_json::json!({ "static": report, "six_position": s });
-            let text = format!(
-                "{}\nsix-position method: K = {:?}, u0 = {:?}\n",
-                report.table(),
-                s.k,
-                s.bias
-            );
-            (json, text, entry)
-        }
-        (TriadKind::Accel, m) => {
-            let model = ModelKind::parse(m)?;
-            let (report, fit) = calib::calibrate_accel(&rec, model, &statics, f.g_m_s2)?;
-            if let Some(p) = &f.plot {
-                calib::plot_residuals(p, &fit)?;
-            }
-            let entry = calib::entry_from_fit(
-                &fit,
-                &format!(
-                    "{} multi-position fit, {} poses, {name}",
-                    model.name(),
-                    fit.observations
-                ),
-            );
-            (
-                serde_json::json!({ "static": report, "fit": fit }),
-                format!("{}\n{}", report.table(), fit.summary()),
-                entry,
-            )
-        }
-        (TriadKind::Mag, m) => {
-            let model = ModelKind::parse(m)?;
-            let fit = calib::calibrate_mag(&rec, model, f.field_ut)?;
-            if let Some(p) = &f.plot {
-                calib::plot_residuals(p, &fit)?;
-            }
-            let entry = calib::entry_from_fit(
-                &fit,
-                &format!(
-                    "{} ellipsoid fit, {} samples, {name}",
-                    model.name(),
-                    fit.observations
-                ),
-            );
-            (serde_json::json!({ "fit": fit }), fit.summary(), entry)
-        }
-        (TriadKind::Gyro, m) => {
-            let model = ModelKind::parse(m)?;
-            if rec.ref_gyr.is_some() {
-                let fit = gyro::rate_table(&rec, model)?;
-                if let Some(p) = &f.plot {
-                    calib::plot_residuals(p, &fit)?;
-                }
-                let entry = calib::entry_from_fit(
-                    &fit,
-                    &format!(
-                        "{} rate-table fit, {} segments, {name}",
-                        model.name(),
-                        fit.observations
-                    ),
-                );
-                (serde_json::json!({ "fit": fit }), fit.summary(), entry)
-            } else {
-                anyhow::ensure!(
-                    model == ModelKind::Matrix,
-                    "without a rate table (ref_gyr_*_rad_s columns) the gyro is calibrated from rotations between static poses, with the matrix model only (--model matrix)"
-                );
-                // gravity directions come from the accelerometer: calibrated by --accel-calibration,
-                // else by the accel entry of the file being updated, else raw (said on stderr)
-                let accel = match &f.accel_calibration {
-                    Some(p) => CalibrationFile::load(p)?.accel.map(|e| e.calibration()),
-                    None => file.accel.as_ref().map(|e| e.calibration()),
-                };
-                if accel.is_none() {
-                    eprintln!(
-                        "clino: note: gravity directions from the uncalibrated accelerometer; calibrate it first (--accel-calibration CAL.toml) for a better gyro fit"
-                    );
-                }
-                let report = calib::detect_static(&rec, &statics)?;
-                let r = gyro::from_rotations(&rec, &report.poses, accel.as_ref())?;
-                if let Some(p) = &f.plot {
-                    let e: Vec<_> = r
-                        .moves
-                        .iter()
-                        .enumerate()
-                        .map(|(k, m)| (k, m.error_before_deg, m.error_after_deg))
-                        .collect();
-                    calib::plot_before_after(
-                        p,
-                        "gyro calibration (rotations between poses): gravity-direction mismatch per move",
-                        "mismatch (deg)",
-                        &e,
-                    )?;
-                }
-                let sigma = r.params.iter().map(|p| (p.name.clone(), p.sigma)).collect();
-                let entry = calib::entry(
-                    kind,
-                    r.calibration,
-                    &format!(
-                        "rotations between {} static poses, {name}",
-                        report.poses.len()
-                    ),
-                    "gravity directions fix the frame to the accelerometer's; bias is the mean static reading (Earth rate neglected)",
-                    sigma,
-                );
-                let text = format!(
-                    "{}\ngyro from rotations: rms gravity-direction mismatch {:.4}° before, {:.4}° after\nbias {:?} rad/s\n{}",
-                    report.table(),
-                    r.rms_before_deg,
-                    r.rms_after_deg,
-                    r.bias,
-                    r.params
-                        .iter()
-                        .map(|p| format!("{} = {:.6} ± {:.2e}\n", p.name, p.value, p.sigma))
-                        .collect::<String>()
-                );
-                (
-                    serde_json::json!({ "static": report, "rotations": r }),
-                    text,
-                    entry,
-                )
-            }
-        }
-    };
-    file.set(kind, tri);
-    file.save(&f.output)?;
-    if f.json {
-        println!("{}", serde_json::to_string_pretty(&json)?);
-    } else {
-        print!("{text}");
-        println!("wrote {}", f.output.display());
+    })
+}
+
+/// Fit, save the calibration, print it, then plot. A plot name that cannot
+/// be a plot (extension, directory) is refused before the fit; a plot that
+/// still cannot be written is an error (non-zero exit) after the
+/// calibration is saved and printed.
+fn fit(kind: TriadKind, method: Method, c: &Common, opts: CalibOptions) -> Result<()> {
+    if let Some(p) = &c.out.plot {
+        clino::report::check_plot_path(p)?;
     }
+    let rec = Recording::load(&c.recording)?;
+    let mut file = existing(c)?;
+    let name = c.recording.display().to_string();
+    let cal = calib::calibrate(kind, method, &rec, &name, &opts)?;
+    for n in &cal.notes {
+        eprintln!("clino: note: {n}");
+    }
+    file.set(kind, cal.entry.clone());
+    file.save(&c.output)?;
+    if c.out.json {
+        println!("{}", serde_json::to_string_pretty(&cal.to_json())?);
+    } else {
+        print!("{}", text::calibration(&cal));
+        println!("wrote {}", c.output.display());
+    }
+    if let Some(p) = &c.out.plot {
+        plot(&cal, p, &c.output)?;
+    }
+    Ok(())
+}
+
+fn plot(cal: &calib::Calibration, p: &Path, saved: &Path) -> Result<()> {
+    cal.plot(p).with_context(|| {
+        format!(
+            "the calibration was saved to {}, but the plot could not be written",
+            saved.display()
+        )
+    })?;
     Ok(())
 }

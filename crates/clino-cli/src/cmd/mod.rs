@@ -10,7 +10,129 @@ pub mod stewart;
 pub mod survey;
 pub mod testbench;
 
+use clap::ValueEnum;
 use clino::io::{AccelUnit, GyroUnit, ReadOptions};
+use std::path::PathBuf;
+
+/// The output flags every command with a JSON form and a plot shares.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct OutputArgs {
+    /// Print JSON to stdout instead of the text table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a plot to FILE (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Print `value` as pretty JSON, or `text` as it is.
+pub fn print_result<T: serde::Serialize>(
+    json: bool,
+    value: &T,
+    text: impl FnOnce() -> String,
+) -> anyhow::Result<()> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(value)?);
+    } else {
+        print!("{}", text());
+    }
+    Ok(())
+}
+
+/// Unit of the gyro columns.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GyroUnitArg {
+    /// rad/s (columns gyr_x_rad_s…).
+    #[value(name = "rad/s", alias = "rad_s")]
+    RadS,
+    /// deg/s (columns gyr_x_deg_s…).
+    #[value(name = "deg/s", aliases = ["deg_s", "dps"])]
+    DegS,
+}
+
+impl From<GyroUnitArg> for GyroUnit {
+    fn from(u: GyroUnitArg) -> Self {
+        match u {
+            GyroUnitArg::RadS => GyroUnit::RadPerS,
+            GyroUnitArg::DegS => GyroUnit::DegPerS,
+        }
+    }
+}
+
+/// Unit of the accelerometer columns.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AccelUnitArg {
+    /// m/s² (columns acc_x_m_s2…).
+    #[value(name = "m/s2", aliases = ["m_s2", "m/s^2", "m/s²"])]
+    MS2,
+    /// multiples of g (columns acc_x_g…).
+    #[value(name = "g")]
+    G,
+}
+
+impl From<AccelUnitArg> for AccelUnit {
+    fn from(u: AccelUnitArg) -> Self {
+        match u {
+            AccelUnitArg::MS2 => AccelUnit::MPerS2,
+            AccelUnitArg::G => AccelUnit::G,
+        }
+    }
+}
+
+/// Gyro integration step of poisson/complementary.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorArg {
+    /// The rotation vector (Rodrigues).
+    Exact,
+    /// First order (the paper's rule).
+    Rectangle,
+}
+
+/// A simulated sensor preset (clino::sim::ImuModel::preset).
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SensorArg {
+    /// No noise, no bias, no band limit.
+    Ideal,
+    /// MPU-6050 as a six-position calibration leaves it (a tenth of the raw errors).
+    Mpu6050,
+    /// MPU-6050 untrimmed: the datasheet's example errors.
+    #[value(name = "mpu6050-raw")]
+    Mpu6050Raw,
+}
+
+impl SensorArg {
+    /// The library model, band-limited to `bandwidth_hz` when given.
+    pub fn model(self, bandwidth_hz: Option<f64>) -> anyhow::Result<clino::sim::ImuModel> {
+        let name = self
+            .to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default();
+        let m = clino::sim::ImuModel::preset(&name)?;
+        Ok(match bandwidth_hz {
+            Some(b) => m.with_bandwidth(b),
+            None => m,
+        })
+    }
+}
+
+/// What to do with a gap in a recording's time stamps.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GapsArg {
+    /// An error naming the line.
+    #[default]
+    Refuse,
+    /// Analyse the longest gap-free segment.
+    Longest,
+}
+
+impl From<GapsArg> for clino::testbench::static_record::GapPolicy {
+    fn from(g: GapsArg) -> Self {
+        match g {
+            GapsArg::Refuse => Self::Refuse,
+            GapsArg::Longest => Self::Longest,
+        }
+    }
+}
 
 /// A progress indicator on stderr for a long command. indicatif draws
 /// nothing when stderr is not a terminal, so logs and pipes stay clean.
@@ -49,11 +171,11 @@ pub fn show_fuse_progress(bar: &indicatif::ProgressBar, p: clino::fusion::FusePr
 #[derive(clap::Args, Debug)]
 pub struct ReadArgs {
     /// Unit of the gyro columns: rad/s (columns gyr_x_rad_s…) or deg/s (gyr_x_deg_s…); bare gyr_x… take this unit.
-    #[arg(long, default_value = "rad/s", value_name = "rad/s|deg/s")]
-    pub gyro_unit: String,
+    #[arg(long, value_enum, default_value = "rad/s", ignore_case = true)]
+    pub gyro_unit: GyroUnitArg,
     /// Unit of the accelerometer columns: m/s2 (acc_x_m_s2…) or g (acc_x_g…); bare acc_x… take this unit.
-    #[arg(long, default_value = "m/s2", value_name = "m/s2|g")]
-    pub accel_unit: String,
+    #[arg(long, value_enum, default_value = "m/s2", ignore_case = true)]
+    pub accel_unit: AccelUnitArg,
     /// Sample rate in Hz, for files without a t_s column (time of row k = k / rate).
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,
@@ -63,8 +185,8 @@ impl ReadArgs {
     /// The library's read options.
     pub fn options(&self) -> clino::Result<ReadOptions> {
         Ok(ReadOptions {
-            gyro_unit: self.gyro_unit.parse::<GyroUnit>()?,
-            accel_unit: self.accel_unit.parse::<AccelUnit>()?,
+            gyro_unit: self.gyro_unit.into(),
+            accel_unit: self.accel_unit.into(),
             rate_hz: self.rate,
             ..ReadOptions::default()
         })
@@ -90,8 +212,8 @@ pub struct GainArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub beta: Option<String>,
     /// Gyro integration step of poisson/complementary: exact (rotation vector) or rectangle (first order).
-    #[arg(long, value_name = "exact|rectangle")]
-    pub integrator: Option<String>,
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
     /// Dynamic filter: base loop bandwidth, rad/s (1/bandwidth is the accelerometer's time constant in slow motion); default 0.15.
     #[arg(long, value_name = "RAD_S", allow_hyphen_values = true)]
     pub bandwidth: Option<String>,
@@ -100,12 +222,16 @@ pub struct GainArgs {
 impl GainArgs {
     /// The flags given, as (parameter key, value).
     pub fn params(&self) -> Vec<(&'static str, String)> {
+        let integrator = self
+            .integrator
+            .and_then(|i| i.to_possible_value())
+            .map(|v| v.get_name().to_string());
         [
             ("k", &self.k),
             ("kp", &self.kp),
             ("ki", &self.ki),
             ("beta", &self.beta),
-            ("integrator", &self.integrator),
+            ("integrator", &integrator),
             ("bandwidth_rad_s", &self.bandwidth),
         ]
         .into_iter()

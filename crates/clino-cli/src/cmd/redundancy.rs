@@ -1,8 +1,9 @@
 //! `clino redundancy`: the nine-chain six-axis accelerometer with a gyro —
 //! what can be restored, simulated faults, and diagnosis of recordings.
 
+use super::print_result;
 use anyhow::Context;
-use clap::{Args as ClapArgs, Subcommand};
+use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use clino::redundancy::{
     analysis,
     diagnose::{DiagnosisConfig, NoiseModel},
@@ -11,13 +12,66 @@ use clino::redundancy::{
     recording,
     simulate::{self, FaultKind, SimConfig, Simulator},
 };
-use std::path::PathBuf;
+use clino::report::text::redundancy as text;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `clino redundancy`.
 #[derive(ClapArgs)]
 pub struct Args {
     #[command(subcommand)]
     command: Command,
+}
+
+/// How a faulty chain misbehaves.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum KindArg {
+    /// Output frozen at its value at the onset.
+    Stuck,
+    /// Constant offset (N).
+    Bias,
+    /// Offset growing linearly (N/s).
+    Drift,
+    /// Extra white noise (σ, N).
+    Noise,
+}
+
+impl From<KindArg> for FaultKind {
+    fn from(k: KindArg) -> Self {
+        match k {
+            KindArg::Stuck => FaultKind::Stuck,
+            KindArg::Bias => FaultKind::Bias,
+            KindArg::Drift => FaultKind::Drift,
+            KindArg::Noise => FaultKind::Noise,
+        }
+    }
+}
+
+/// The fault kinds of a sweep.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum SweepKindArg {
+    /// Output frozen at its value at the onset.
+    Stuck,
+    /// Constant offset (N).
+    Bias,
+    /// Offset growing linearly (N/s).
+    Drift,
+    /// Extra white noise (σ, N).
+    Noise,
+    /// Every kind, one after the other.
+    All,
+}
+
+impl SweepKindArg {
+    fn kinds(self) -> Vec<FaultKind> {
+        let one = |k: KindArg| vec![FaultKind::from(k)];
+        match self {
+            SweepKindArg::Stuck => one(KindArg::Stuck),
+            SweepKindArg::Bias => one(KindArg::Bias),
+            SweepKindArg::Drift => one(KindArg::Drift),
+            SweepKindArg::Noise => one(KindArg::Noise),
+            SweepKindArg::All => FaultKind::ALL.to_vec(),
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -29,79 +83,85 @@ enum Command {
         json: bool,
     },
     /// Simulate a shaken cube with faulty chains: detection, diagnosis, restoration.
-    Simulate {
-        /// Faulty chains: chain numbers 1–9 separated by commas, e.g. 2,3,9.
-        #[arg(long, value_name = "N,N,…")]
-        faults: String,
-        /// stuck | bias | drift | noise.
-        #[arg(long, default_value = "bias")]
-        fault_kind: String,
-        /// Fault magnitude: bias N, drift N/s, noise σ N (default per kind: 0.02, 0.2, 0.004).
-        #[arg(long)]
-        magnitude: Option<f64>,
-        /// Record length, s.
-        #[arg(long, default_value_t = 1.0)]
-        duration_s: f64,
-        /// Fault onset, s.
-        #[arg(long, default_value_t = 0.4)]
-        onset_s: f64,
-        /// Noise seed.
-        #[arg(long, default_value_t = 7)]
-        seed: u64,
-        #[command(flatten)]
-        diag: DiagArgs,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-        /// Plot the x linear acceleration (truth, faulty, restored) to FILE.svg|png.
-        #[arg(long)]
-        plot: Option<PathBuf>,
-        /// Write the simulated recording (forces, gyro) as CSV for `diagnose`.
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Simulate(SimulateArgs),
     /// Simulate all 165 validation sets (1–3 chains and Table 1) and report rates and delays.
-    Sweep {
-        /// stuck | bias | drift | noise | all.
-        #[arg(long, default_value = "all")]
-        fault_kind: String,
-        /// Record length per run, s.
-        #[arg(long, default_value_t = 0.5)]
-        duration_s: f64,
-        /// Fault onset, s.
-        #[arg(long, default_value_t = 0.2)]
-        onset_s: f64,
-        /// First noise seed (run i uses seed + i).
-        #[arg(long, default_value_t = 7)]
-        seed: u64,
-        #[command(flatten)]
-        diag: DiagArgs,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-    },
+    Sweep(SweepArgs),
     /// Diagnose a recording: CSV with t_s, f1_N..f9_N, gyr_x_rad_s, gyr_y_rad_s, gyr_z_rad_s.
-    Diagnose {
-        /// The recording.
-        recording: PathBuf,
-        /// Cube mass, kg.
-        #[arg(long, default_value_t = 0.1)]
-        mass_kg: f64,
-        /// Half the cube edge, m.
-        #[arg(long, default_value_t = 0.012)]
-        half_edge_m: f64,
-        /// Chain stiffness, N/m: one value for all, or nine comma-separated.
-        #[arg(long, default_value = "2e7")]
-        stiffness_n_m: String,
-        #[command(flatten)]
-        diag: DiagArgs,
-        /// Print JSON.
-        #[arg(long)]
-        json: bool,
-        /// Write the restored forces and body 6-D acceleration as CSV.
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
+    Diagnose(DiagnoseArgs),
+}
+
+#[derive(ClapArgs)]
+struct SimulateArgs {
+    /// Faulty chains: chain numbers 1–9 separated by commas, e.g. 2,3,9.
+    #[arg(long, value_name = "N,N,…")]
+    faults: String,
+    /// How the faulty chains misbehave.
+    #[arg(long, value_enum, default_value = "bias", ignore_case = true)]
+    fault_kind: KindArg,
+    /// Fault magnitude: bias N, drift N/s, noise σ N (default per kind: 0.02, 0.2, 0.004).
+    #[arg(long)]
+    magnitude: Option<f64>,
+    /// Record length, s.
+    #[arg(long, default_value_t = 1.0)]
+    duration_s: f64,
+    /// Fault onset, s.
+    #[arg(long, default_value_t = 0.4)]
+    onset_s: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 7)]
+    seed: u64,
+    #[command(flatten)]
+    diag: DiagArgs,
+    // Print JSON; --plot draws the x linear acceleration (truth, faulty, restored).
+    #[command(flatten)]
+    output: super::OutputArgs,
+    /// Write the simulated recording (forces, gyro) as CSV for `diagnose`.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+#[derive(ClapArgs)]
+struct SweepArgs {
+    /// Fault kind, or all.
+    #[arg(long, value_enum, default_value = "all", ignore_case = true)]
+    fault_kind: SweepKindArg,
+    /// Record length per run, s.
+    #[arg(long, default_value_t = 0.5)]
+    duration_s: f64,
+    /// Fault onset, s.
+    #[arg(long, default_value_t = 0.2)]
+    onset_s: f64,
+    /// First noise seed (run i uses seed + i).
+    #[arg(long, default_value_t = 7)]
+    seed: u64,
+    #[command(flatten)]
+    diag: DiagArgs,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(ClapArgs)]
+struct DiagnoseArgs {
+    /// The recording.
+    recording: PathBuf,
+    /// Cube mass, kg.
+    #[arg(long, default_value_t = 0.1)]
+    mass_kg: f64,
+    /// Half the cube edge, m.
+    #[arg(long, default_value_t = 0.012)]
+    half_edge_m: f64,
+    /// Chain stiffness, N/m: one value for all, or nine comma-separated.
+    #[arg(long, default_value = "2e7")]
+    stiffness_n_m: String,
+    #[command(flatten)]
+    diag: DiagArgs,
+    /// Print JSON.
+    #[arg(long)]
+    json: bool,
+    /// Write the restored forces and body 6-D acceleration as CSV.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 /// Noise model and diagnosis settings shared by the subcommands.
@@ -157,220 +217,78 @@ fn parse_stiffness(s: &str) -> anyhow::Result<[f64; 9]> {
     }
 }
 
+fn create(p: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    let f = std::fs::File::create(p).with_context(|| format!("creating {}", p.display()))?;
+    Ok(std::io::BufWriter::new(f))
+}
+
 /// Run `clino redundancy`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     match a.command {
         Command::Analyze { json } => {
             let an = analysis::analyze(&SixAxisAccelerometer::reference(), 4);
-            if json {
-                println!("{}", serde_json::to_string_pretty(&an)?);
-            } else {
-                print!("{}", an.summary());
-                for k in ["1", "2", "3", "4"] {
-                    let not_iso: Vec<&String> = an.restorable[k]
-                        .iter()
-                        .filter(|s| !an.isolable[k].contains(s))
-                        .collect();
-                    if !not_iso.is_empty() {
-                        println!(
-                            "size {k}: restorable but not isolable ({}): {}",
-                            not_iso.len(),
-                            not_iso
-                                .iter()
-                                .map(|s| s.as_str())
-                                .collect::<Vec<_>>()
-                                .join(" ")
-                        );
-                    }
-                }
-            }
+            print_result(json, &an, || text::analysis(&an))
         }
-        Command::Simulate {
-            faults,
-            fault_kind,
-            magnitude,
-            duration_s,
-            onset_s,
-            seed,
-            diag,
-            json,
-            plot,
-            out,
-        } => {
-            let set = FaultSet::parse(&faults)?;
-            let kind = FaultKind::parse(&fault_kind)?;
-            let cfg = SimConfig {
-                duration_s,
-                onset_s,
-                magnitude,
-                seed,
-                noise: diag.noise(),
-                diagnosis: diag.config(),
-                ..SimConfig::default()
-            };
-            let sim = Simulator::new(&SixAxisAccelerometer::reference(), &cfg)?;
-            let o = sim.run(set, kind, seed)?;
-            if let Some(p) = &plot {
-                o.plot(p)?;
-            }
-            if let Some(p) = &out {
-                let f = std::fs::File::create(p)
-                    .with_context(|| format!("creating {}", p.display()))?;
-                recording::write_csv(std::io::BufWriter::new(f), &o.recording)?;
-            }
-            let r = &o.report;
-            if json {
-                println!("{}", serde_json::to_string_pretty(r)?);
-            } else {
-                let ms =
-                    |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{:.1} ms", x * 1e3));
-                let pct =
-                    |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{:.3} %", x * 100.0));
-                let list = |l: &str| {
-                    FaultSet::from_label(l).map_or_else(|_| l.to_string(), |s| s.to_list())
-                };
-                println!(
-                    "faults {} ({}, magnitude {}) from {} s",
-                    set.to_list(),
-                    r.fault_kind.name(),
-                    r.fault_magnitude,
-                    r.onset_s
-                );
-                println!(
-                    "diagnosed {} (source scheme: {})",
-                    list(&r.diagnosed),
-                    list(&r.diagnosed_source)
-                );
-                println!(
-                    "detection delay {}, isolation delay {}",
-                    ms(r.detection_delay_s),
-                    ms(r.isolation_delay_s)
-                );
-                println!(
-                    "false alarms {} of {} windows before the fault",
-                    r.false_alarm_windows, r.pre_onset_windows
-                );
-                let restored = match &r.restored_with {
-                    Some(l) if *l == r.faults => "restored".to_string(),
-                    Some(l) => format!("restored with the wrong chains {}", list(l)),
-                    None => "not restored".to_string(),
-                };
-                println!(
-                    "linear acceleration max relative error: faulty {}, {restored} {}, fault-free {}",
-                    pct(Some(r.faulty_linear_acc_max_rel_error)),
-                    pct(r.restored_linear_acc_max_rel_error),
-                    pct(Some(r.fault_free_linear_acc_max_rel_error))
-                );
-            }
-            for w in &r.warnings {
-                eprintln!("clino: warning: {w}");
-            }
-        }
-        Command::Sweep {
-            fault_kind,
-            duration_s,
-            onset_s,
-            seed,
-            diag,
-            json,
-        } => {
-            let kinds: Vec<FaultKind> = if fault_kind == "all" {
-                FaultKind::ALL.to_vec()
-            } else {
-                vec![FaultKind::parse(&fault_kind)?]
-            };
-            let cfg = SimConfig {
-                duration_s,
-                onset_s,
-                seed,
-                noise: diag.noise(),
-                diagnosis: diag.config(),
-                ..SimConfig::default()
-            };
-            let sim = Simulator::new(&SixAxisAccelerometer::reference(), &cfg)?;
-            let sets = simulate::validation_sets();
-            let bar = indicatif::ProgressBar::new((sets.len() * kinds.len()) as u64);
-            let mut summaries = Vec::new();
-            for kind in kinds {
-                let (s, _) = simulate::sweep(&sim, &sets, kind, &mut |_, _| bar.inc(1))?;
-                summaries.push(s);
-            }
-            bar.finish_and_clear();
-            if json {
-                println!("{}", serde_json::to_string_pretty(&summaries)?);
-            } else {
-                println!(
-                    "kind   runs  detected  false-alarm  delay mean/max (ms)  isolated  source  agree  source-wrong  max restored err (set)"
-                );
-                for s in &summaries {
-                    println!(
-                        "{:<6} {:>4}  {:>7.1}%  {:>10.2e}  {:>8.1} / {:<8.1}  {:>8}  {:>6}  {:>5}  {:>12}  {:>8.3} % ({})",
-                        s.fault_kind.name(),
-                        s.runs,
-                        100.0 * s.detection_rate,
-                        s.false_alarm_rate,
-                        1e3 * s.mean_detection_delay_s,
-                        1e3 * s.max_detection_delay_s,
-                        s.isolated,
-                        s.isolated_source,
-                        s.agree,
-                        s.source_wrong_set,
-                        100.0 * s.max_restored_linear_acc_rel_error,
-                        s.worst_restored_set
-                    );
-                    if !s.misdiagnosed.is_empty() {
-                        println!("       misdiagnosed: {}", s.misdiagnosed.join(" "));
-                    }
-                }
-            }
-        }
-        Command::Diagnose {
-            recording: path,
-            mass_kg,
-            half_edge_m,
-            stiffness_n_m,
-            diag,
-            json,
-            out,
-        } => {
-            let acc =
-                SixAxisAccelerometer::new(mass_kg, half_edge_m, parse_stiffness(&stiffness_n_m)?)?;
-            let rec = recording::read_csv(&path)?;
-            let d = recording::diagnose_recording(&acc, &diag.noise(), &diag.config(), &rec)?;
-            if let Some(p) = &out {
-                let restored = recording::restore_recording(&acc, &diag.noise(), &rec, &d, 10)?;
-                let f = std::fs::File::create(p)
-                    .with_context(|| format!("creating {}", p.display()))?;
-                recording::write_restored_csv(std::io::BufWriter::new(f), &restored)?;
-            }
-            if json {
-                println!("{}", serde_json::to_string_pretty(&d)?);
-            } else {
-                println!(
-                    "{}: {} samples, step {:.6} s, {} decisions",
-                    path.display(),
-                    d.samples,
-                    d.step_s,
-                    d.windows
-                );
-                match d.first_alarm_s {
-                    None => println!("no fault detected"),
-                    Some(t) => println!(
-                        "first alarm at {t:.4} s; diagnosed {} (source scheme: {})",
-                        d.diagnosed, d.diagnosed_source
-                    ),
-                }
-                for s in &d.segments {
-                    println!(
-                        "  {:>9.4} – {:>9.4} s  general {:<12} source {}",
-                        s.from_s, s.to_s, s.general, s.source
-                    );
-                }
-                if !rec.ignored_columns.is_empty() {
-                    println!("ignored columns: {}", rec.ignored_columns.join(", "));
-                }
-            }
-        }
+        Command::Simulate(s) => simulate(s),
+        Command::Sweep(s) => sweep(s),
+        Command::Diagnose(d) => diagnose(d),
+    }
+}
+
+fn simulate(a: SimulateArgs) -> anyhow::Result<()> {
+    let set = FaultSet::parse(&a.faults)?;
+    let cfg = SimConfig {
+        duration_s: a.duration_s,
+        onset_s: a.onset_s,
+        magnitude: a.magnitude,
+        seed: a.seed,
+        noise: a.diag.noise(),
+        diagnosis: a.diag.config(),
+        ..SimConfig::default()
+    };
+    let sim = Simulator::new(&SixAxisAccelerometer::reference(), &cfg)?;
+    let o = sim.run(set, a.fault_kind.into(), a.seed)?;
+    if let Some(p) = &a.output.plot {
+        o.plot(p)?;
+    }
+    if let Some(p) = &a.out {
+        recording::write_csv(create(p)?, &o.recording)?;
+    }
+    print_result(a.output.json, &o.report, || text::simulation(&o.report))?;
+    for w in &o.report.warnings {
+        eprintln!("clino: warning: {w}");
     }
     Ok(())
+}
+
+fn sweep(a: SweepArgs) -> anyhow::Result<()> {
+    let cfg = SimConfig {
+        duration_s: a.duration_s,
+        onset_s: a.onset_s,
+        seed: a.seed,
+        noise: a.diag.noise(),
+        diagnosis: a.diag.config(),
+        ..SimConfig::default()
+    };
+    let sim = Simulator::new(&SixAxisAccelerometer::reference(), &cfg)?;
+    let sets = simulate::validation_sets();
+    let kinds = a.fault_kind.kinds();
+    let bar = indicatif::ProgressBar::new((sets.len() * kinds.len()) as u64);
+    let summaries = simulate::sweep_kinds(&sim, &sets, &kinds, &mut |_, _| bar.inc(1))?;
+    bar.finish_and_clear();
+    print_result(a.json, &summaries, || text::sweep(&summaries))
+}
+
+fn diagnose(a: DiagnoseArgs) -> anyhow::Result<()> {
+    let acc =
+        SixAxisAccelerometer::new(a.mass_kg, a.half_edge_m, parse_stiffness(&a.stiffness_n_m)?)?;
+    let rec = recording::read_csv(&a.recording)?;
+    let d = recording::diagnose_recording(&acc, &a.diag.noise(), &a.diag.config(), &rec)?;
+    if let Some(p) = &a.out {
+        let restored = recording::restore_recording(&acc, &a.diag.noise(), &rec, &d, 10)?;
+        recording::write_restored_csv(create(p)?, &restored)?;
+    }
+    print_result(a.json, &d, || {
+        text::diagnosis(&a.recording, &d, &rec.ignored_columns)
+    })
 }

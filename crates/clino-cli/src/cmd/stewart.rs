@@ -1,5 +1,6 @@
 //! `clino stewart ik|fk`: Stewart-platform kinematics of single poses.
 
+use clino::report::text::stewart as text;
 use clino::sim::stewart::{Geometry, Pose};
 use serde_json::json;
 
@@ -62,54 +63,46 @@ struct FkArgs {
 pub fn run(a: Args) -> anyhow::Result<()> {
     let g = Geometry::typical();
     match a.cmd {
-        Cmd::Ik(p) => {
-            let pose = Pose::from_deg(
-                [p.x_mm * 1e-3, p.y_mm * 1e-3, p.z_mm * 1e-3],
-                [p.roll_deg, p.pitch_deg, p.yaw_deg],
-                g.home_height_m,
-            );
-            let legs = g.inverse(&pose)?;
-            if p.json {
-                println!(
-                    "{}",
-                    json!({ "legs_m": legs, "condition": g.condition(&pose) })
-                );
-            } else {
-                let s: Vec<String> = legs.iter().map(|l| format!("{l:.12}")).collect();
-                println!("legs_m {}", s.join(","));
-            }
-        }
-        Cmd::Fk(f) => {
-            anyhow::ensure!(f.legs_m.len() == 6, "give exactly six leg lengths");
-            let l: [f64; 6] = core::array::from_fn(|i| f.legs_m[i]);
-            let sol = g.forward(&l, &g.home())?;
-            let (r, p, y) = sol.pose.attitude.euler_angles();
-            let off = sol.pose.pos_m - g.home().pos_m;
-            if f.json {
-                println!(
-                    "{}",
-                    json!({
-                        "x_mm": off.x * 1e3, "y_mm": off.y * 1e3, "z_mm": off.z * 1e3,
-                        "roll_deg": r.to_degrees(), "pitch_deg": p.to_degrees(), "yaw_deg": y.to_degrees(),
-                        "iterations": sol.iterations, "residual_m": sol.residual_m, "condition": sol.condition,
-                    })
-                );
-            } else {
-                println!(
-                    "x_mm {:.6} y_mm {:.6} z_mm {:.6} roll_deg {:.6} pitch_deg {:.6} yaw_deg {:.6}",
-                    off.x * 1e3,
-                    off.y * 1e3,
-                    off.z * 1e3,
-                    r.to_degrees(),
-                    p.to_degrees(),
-                    y.to_degrees()
-                );
-                println!(
-                    "iterations {} residual_m {:.3e} condition {:.1}",
-                    sol.iterations, sol.residual_m, sol.condition
-                );
-            }
-        }
+        Cmd::Ik(p) => ik(&g, p),
+        Cmd::Fk(f) => fk(&g, f),
+    }
+}
+
+fn ik(g: &Geometry, p: IkArgs) -> anyhow::Result<()> {
+    let pose = Pose::from_deg(
+        [p.x_mm * 1e-3, p.y_mm * 1e-3, p.z_mm * 1e-3],
+        [p.roll_deg, p.pitch_deg, p.yaw_deg],
+        g.home_height_m,
+    );
+    let legs = g.inverse(&pose)?;
+    if p.json {
+        println!(
+            "{}",
+            json!({ "legs_m": legs, "condition": g.condition(&pose) })
+        );
+    } else {
+        print!("{}", text::ik(&legs));
+    }
+    Ok(())
+}
+
+fn fk(g: &Geometry, f: FkArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(f.legs_m.len() == 6, "give exactly six leg lengths");
+    let l: [f64; 6] = core::array::from_fn(|i| f.legs_m[i]);
+    let sol = g.forward(&l, &g.home())?;
+    if f.json {
+        let (r, p, y) = sol.pose.attitude.euler_angles();
+        let off = sol.pose.pos_m - g.home().pos_m;
+        println!(
+            "{}",
+            json!({
+                "x_mm": off.x * 1e3, "y_mm": off.y * 1e3, "z_mm": off.z * 1e3,
+                "roll_deg": r.to_degrees(), "pitch_deg": p.to_degrees(), "yaw_deg": y.to_degrees(),
+                "iterations": sol.iterations, "residual_m": sol.residual_m, "condition": sol.condition,
+            })
+        );
+    } else {
+        print!("{}", text::fk(&g.home(), &sol));
     }
     Ok(())
 }

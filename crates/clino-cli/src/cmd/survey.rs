@@ -48,7 +48,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{}", report.table());
+        print!("{}", clino::report::text::survey::survey(&report));
     }
     Ok(())
 }

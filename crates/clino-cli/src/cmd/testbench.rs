@@ -1,6 +1,8 @@
 //! `clino testbench conical|orbit|static|analyze`: the dynamic test bench.
 
-use clino::sim::ImuModel;
+use super::{GapsArg, OutputArgs, SensorArg, print_result};
+use clap::ValueEnum;
+use clino::report::text::testbench as text;
 use clino::sim::motion::ConeAxis;
 use clino::sim::stewart::{Geometry, ServoLegs};
 use clino::testbench::conical::{ConicalConfig, PlatformSpec, run_conical};
@@ -84,9 +86,9 @@ impl ServoArgs {
 struct RecordArgs {
     /// Output CSV file.
     out: PathBuf,
-    /// What the platform does: conical or orbit.
-    #[arg(long, default_value = "conical")]
-    excitation: String,
+    /// What the platform does.
+    #[arg(long, value_enum, default_value = "conical")]
+    excitation: ExcitationArg,
     /// Cone angle, degrees (conical).
     #[arg(long, default_value_t = 5.0)]
     alpha_deg: f64,
@@ -99,9 +101,9 @@ struct RecordArgs {
     /// Duration, s.
     #[arg(long, default_value_t = 30.0)]
     duration_s: f64,
-    /// Sensor preset: ideal, mpu6050, mpu6050-raw.
-    #[arg(long, default_value = "mpu6050")]
-    sensor: String,
+    /// Sensor preset.
+    #[arg(long, value_enum, default_value = "mpu6050", ignore_case = true)]
+    sensor: SensorArg,
     /// Override the sensor bandwidth with a first-order low-pass at this cut-off, Hz.
     #[arg(long)]
     bandwidth_hz: Option<f64>,
@@ -118,19 +120,50 @@ struct RecordArgs {
     servo: ServoArgs,
 }
 
-fn excitation(name: &str) -> anyhow::Result<Excitation> {
-    match name {
-        "conical" => Ok(Excitation::Conical),
-        "orbit" => Ok(Excitation::Orbit),
-        other => anyhow::bail!("unknown excitation '{other}' (conical or orbit)"),
+/// What the platform does.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum ExcitationArg {
+    /// Conical motion about z (frequency response).
+    Conical,
+    /// Positional orbit (cross-coupling).
+    Orbit,
+}
+
+impl From<ExcitationArg> for Excitation {
+    fn from(e: ExcitationArg) -> Self {
+        match e {
+            ExcitationArg::Conical => Excitation::Conical,
+            ExcitationArg::Orbit => Excitation::Orbit,
+        }
+    }
+}
+
+/// The axis a cone is drawn about.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum AxisArg {
+    /// x (gyro z sensitivity).
+    X,
+    /// y (gyro z sensitivity).
+    Y,
+    /// z (the full test).
+    Z,
+}
+
+impl From<AxisArg> for ConeAxis {
+    fn from(a: AxisArg) -> Self {
+        match a {
+            AxisArg::X => ConeAxis::X,
+            AxisArg::Y => ConeAxis::Y,
+            AxisArg::Z => ConeAxis::Z,
+        }
     }
 }
 
 #[derive(clap::Args)]
 struct Common {
-    /// Sensor preset: ideal, mpu6050, mpu6050-raw.
-    #[arg(long, default_value = "mpu6050")]
-    sensor: String,
+    /// Sensor preset.
+    #[arg(long, value_enum, default_value = "mpu6050", ignore_case = true)]
+    sensor: SensorArg,
     /// Override the sensor bandwidth with a first-order low-pass at this cut-off, Hz.
     #[arg(long)]
     bandwidth_hz: Option<f64>,
@@ -143,25 +176,13 @@ struct Common {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Print JSON to stdout.
-    #[arg(long)]
-    json: bool,
-    /// Write a plot (.svg or .png).
-    #[arg(long)]
-    plot: Option<PathBuf>,
-}
-
-fn sensor(name: &str, bandwidth_hz: Option<f64>) -> anyhow::Result<ImuModel> {
-    let m = ImuModel::preset(name)?;
-    Ok(match bandwidth_hz {
-        Some(b) => m.with_bandwidth(b),
-        None => m,
-    })
+    #[command(flatten)]
+    output: OutputArgs,
 }
 
 impl Common {
-    fn sensor(&self) -> anyhow::Result<ImuModel> {
-        sensor(&self.sensor, self.bandwidth_hz)
+    fn sensor(&self) -> anyhow::Result<clino::sim::ImuModel> {
+        self.sensor.model(self.bandwidth_hz)
     }
 }
 
@@ -178,8 +199,8 @@ struct ConicalArgs {
     )]
     freq_hz: Vec<f64>,
     /// Cone axis: z (the full test) or x, y (gyro z sensitivity).
-    #[arg(long, default_value = "z")]
-    axis: String,
+    #[arg(long, value_enum, default_value = "z", ignore_case = true)]
+    axis: AxisArg,
     #[command(flatten)]
     platform: PlatformArgs,
     #[command(flatten)]
@@ -214,9 +235,9 @@ struct StaticArgs {
     /// Start of the record excluded from the statistics (filter settling), s.
     #[arg(long, default_value_t = 10.0)]
     settle_s: f64,
-    /// What to do with a gap in a recording's time stamps: refuse, or longest (the longest gap-free segment).
-    #[arg(long, default_value = "refuse")]
-    gaps: String,
+    /// What to do with a gap in a recording's time stamps.
+    #[arg(long, value_enum, default_value = "refuse")]
+    gaps: GapsArg,
     #[command(flatten)]
     common: Common,
 }
@@ -225,9 +246,9 @@ struct StaticArgs {
 struct AnalyzeArgs {
     /// Lab recording (CSV; see `clino::testbench::recording` for the columns).
     recording: PathBuf,
-    /// What the platform did: conical or orbit.
-    #[arg(long, default_value = "conical")]
-    excitation: String,
+    /// What the platform did.
+    #[arg(long, value_enum, default_value = "conical")]
+    excitation: ExcitationArg,
     /// Excitation frequency, Hz (default: fitted from the reference).
     #[arg(long)]
     freq_hz: Option<f64>,
@@ -247,216 +268,115 @@ fn progress(n: usize) -> indicatif::ProgressBar {
     }
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map_or("-".into(), |v| format!("{v:+.3}"))
-}
-
 /// Run `clino testbench`.
 pub fn run(a: Args) -> anyhow::Result<()> {
     match a.cmd {
-        Cmd::Conical(c) => {
-            let mut cfg = ConicalConfig::new(
-                c.alpha_deg.to_radians(),
-                c.freq_hz,
-                c.common.sensor()?,
-                &c.common.filter,
-            );
-            cfg.rate_hz = c.common.rate_hz;
-            cfg.seed = c.common.seed;
-            cfg.platform = c.platform.spec();
-            cfg.axis = match c.axis.as_str() {
-                "x" => ConeAxis::X,
-                "y" => ConeAxis::Y,
-                "z" => ConeAxis::Z,
-                other => anyhow::bail!("unknown cone axis '{other}' (x, y or z)"),
-            };
-            let pb = progress(cfg.freqs_hz.len());
-            let pts = run_conical(&cfg, &mut |d, _| pb.set_position(d as u64))?;
-            pb.finish_and_clear();
-            if let Some(p) = &c.common.plot {
-                plots::conical_plot(p, &pts)?;
-            }
-            if c.common.json {
-                println!("{}", serde_json::to_string_pretty(&pts)?);
-            } else {
-                println!(
-                    "freq_hz  alpha_deg gyro_x_db gyro_y_db gyro_z_db accel_x_db accel_y_db tilt_x_db tilt_y_db sin_phi_db tan_theta_db"
-                );
-                for p in &pts {
-                    println!(
-                        "{:7.3}  {:9.3} {:>9} {:>9} {:>9} {:>10} {:>10} {:>9} {:>9} {:>10} {:>12}",
-                        p.freq_hz,
-                        p.alpha_deg,
-                        opt(p.gyro_x_db),
-                        opt(p.gyro_y_db),
-                        opt(p.gyro_z_db),
-                        opt(p.accel_x_db),
-                        opt(p.accel_y_db),
-                        opt(p.tilt_x_db),
-                        opt(p.tilt_y_db),
-                        opt(p.sin_phi_db),
-                        opt(p.tan_theta_db)
-                    );
-                }
-            }
-        }
-        Cmd::Orbit(o) => {
-            let mut cfg = OrbitConfig::new(
-                o.amplitude_mm * 1e-3,
-                o.freq_hz,
-                o.common.sensor()?,
-                &o.common.filter,
-            );
-            cfg.rate_hz = o.common.rate_hz;
-            cfg.seed = o.common.seed;
-            cfg.platform = o.platform.spec();
-            let pb = progress(cfg.freqs_hz.len());
-            let pts = run_orbit(&cfg, &mut |d, _| pb.set_position(d as u64))?;
-            pb.finish_and_clear();
-            if let Some(p) = &o.common.plot {
-                plots::orbit_plot(p, &pts)?;
-            }
-            if o.common.json {
-                println!("{}", serde_json::to_string_pretty(&pts)?);
-            } else {
-                println!(
-                    "# tilt error under the orbit, degrees: *_pp = max − min, *_fit_pp = 2 × sine fitted at the orbit frequency"
-                );
-                if cfg.platform.is_some() {
-                    println!(
-                        "# on the simulated platform: orbit_*_mm = amplitude actually made, ref_*_pp_deg = the platform's own tilt (from forward kinematics of the legs)"
-                    );
-                }
-                println!(
-                    "freq_hz  roll_pp_deg pitch_pp_deg roll_fit_pp_deg pitch_fit_pp_deg  orbit_x_mm orbit_y_mm orbit_z_mm  ref_roll_pp_deg ref_pitch_pp_deg"
-                );
-                for p in &pts {
-                    let [ax, ay, az] = p.orbit_amplitude_mm.unwrap_or([f64::NAN; 3]);
-                    let [rr, rp] = p.reference_tilt_pp_deg.unwrap_or([f64::NAN; 2]);
-                    println!(
-                        "{:7.3}  {:11.4} {:12.4} {:15.4} {:16.4}  {:10.3} {:10.3} {:10.3}  {:15.2e} {:16.2e}",
-                        p.freq_hz,
-                        p.roll_pp_deg,
-                        p.pitch_pp_deg,
-                        p.roll_fit_pp_deg,
-                        p.pitch_fit_pp_deg,
-                        ax,
-                        ay,
-                        az,
-                        rr,
-                        rp
-                    );
-                }
-            }
-        }
-        Cmd::Static(s) => {
-            let r = match &s.recording {
-                Some(path) => {
-                    // the rules of `clino allan` too: comments, unused columns, gaps, dropouts
-                    let rec = read_static_record(path, s.gaps.parse()?)?;
-                    for n in &rec.notes {
-                        eprintln!("warning: {n}");
-                    }
-                    rec.require(3, "a static test")?;
-                    static_test::static_test(&rec.samples, &s.common.filter, s.settle_s)?
-                }
-                None => {
-                    let m = s.common.sensor()?;
-                    m.validate()?;
-                    let smp = m.simulate(
-                        &clino::sim::motion::Static::level(),
-                        s.common.rate_hz,
-                        s.duration_s,
-                        s.common.seed,
-                    );
-                    static_test::static_test(&smp, &s.common.filter, s.settle_s)?
-                }
-            };
-            if let Some(p) = &s.common.plot {
-                plots::static_plot(p, &r)?;
-            }
-            if s.common.json {
-                println!("{}", serde_json::to_string_pretty(&r)?);
-            } else {
-                println!(
-                    "static test: filter {}, {:.1} s, {} samples",
-                    r.filter, r.duration_s, r.samples
-                );
-                println!("angle  mean_deg   drift_deg  drift_rate_deg_s  noise_std_deg  pp_deg");
-                for (n, d) in [("roll", r.roll), ("pitch", r.pitch)] {
-                    println!(
-                        "{n:<5}  {:+9.4}  {:+10.3e}  {:+16.3e}  {:13.3e}  {:9.3e}",
-                        d.mean_deg, d.drift_deg, d.drift_rate_deg_s, d.noise_std_deg, d.pp_deg
-                    );
-                }
-            }
-        }
-        Cmd::Analyze(a) => {
-            let exc = excitation(&a.excitation)?;
-            let t = Table::read(&a.recording)?;
-            let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s).map_err(|e| {
-                if e.file.is_none() {
-                    e.in_file(&a.recording)
-                } else {
-                    e
-                }
-            })?;
-            if a.json {
-                println!("{}", serde_json::to_string_pretty(&r)?);
-            } else {
-                println!(
-                    "reference: {:.4} Hz, amplitude {:.4} ({})",
-                    r.freq_hz,
-                    r.reference_amplitude,
-                    match exc {
-                        Excitation::Conical => "cone angle, deg",
-                        Excitation::Orbit => "x orbit, mm",
-                    }
-                );
-                if let Some(n) = r.fk_max_iterations {
-                    println!("forward kinematics: at most {n} iterations per row");
-                }
-                if let Some(p) = &r.conical {
-                    println!(
-                        "gyro_x_db {} gyro_y_db {} accel_x_db {} accel_y_db {} tilt_x_db {} tilt_y_db {} sin_phi_db {} tan_theta_db {}",
-                        opt(p.gyro_x_db),
-                        opt(p.gyro_y_db),
-                        opt(p.accel_x_db),
-                        opt(p.accel_y_db),
-                        opt(p.tilt_x_db),
-                        opt(p.tilt_y_db),
-                        opt(p.sin_phi_db),
-                        opt(p.tan_theta_db)
-                    );
-                }
-                if let Some(p) = &r.orbit {
-                    println!(
-                        "roll_pp_deg {:.4} pitch_pp_deg {:.4} roll_fit_pp_deg {:.4} pitch_fit_pp_deg {:.4}",
-                        p.roll_pp_deg, p.pitch_pp_deg, p.roll_fit_pp_deg, p.pitch_fit_pp_deg
-                    );
-                }
-            }
-        }
-        Cmd::Record(r) => {
-            let exc = excitation(&r.excitation)?;
-            let amp = match exc {
-                Excitation::Conical => r.alpha_deg.to_radians(),
-                Excitation::Orbit => r.amplitude_mm * 1e-3,
-            };
-            clino::testbench::recording::simulate_lab_recording(
-                &r.out,
-                exc,
-                amp,
-                r.freq_hz,
-                &r.servo.legs(),
-                &sensor(&r.sensor, r.bandwidth_hz)?,
-                &r.filter,
-                r.rate_hz,
-                r.duration_s,
-                r.seed,
-            )?;
-            eprintln!("wrote {}", r.out.display());
-        }
+        Cmd::Conical(c) => conical(c),
+        Cmd::Orbit(o) => orbit(o),
+        Cmd::Static(s) => static_cmd(s),
+        Cmd::Analyze(a) => lab_analysis(a),
+        Cmd::Record(r) => record(r),
     }
+}
+
+fn conical(c: ConicalArgs) -> anyhow::Result<()> {
+    let mut cfg = ConicalConfig::new(
+        c.alpha_deg.to_radians(),
+        c.freq_hz,
+        c.common.sensor()?,
+        &c.common.filter,
+    );
+    cfg.rate_hz = c.common.rate_hz;
+    cfg.seed = c.common.seed;
+    cfg.platform = c.platform.spec();
+    cfg.axis = c.axis.into();
+    let pb = progress(cfg.freqs_hz.len());
+    let pts = run_conical(&cfg, &mut |d, _| pb.set_position(d as u64))?;
+    pb.finish_and_clear();
+    if let Some(p) = &c.common.output.plot {
+        plots::conical_plot(p, &pts)?;
+    }
+    print_result(c.common.output.json, &pts, || text::conical(&pts))
+}
+
+fn orbit(o: OrbitArgs) -> anyhow::Result<()> {
+    let mut cfg = OrbitConfig::new(
+        o.amplitude_mm * 1e-3,
+        o.freq_hz,
+        o.common.sensor()?,
+        &o.common.filter,
+    );
+    cfg.rate_hz = o.common.rate_hz;
+    cfg.seed = o.common.seed;
+    cfg.platform = o.platform.spec();
+    let pb = progress(cfg.freqs_hz.len());
+    let pts = run_orbit(&cfg, &mut |d, _| pb.set_position(d as u64))?;
+    pb.finish_and_clear();
+    if let Some(p) = &o.common.output.plot {
+        plots::orbit_plot(p, &pts)?;
+    }
+    let on_platform = cfg.platform.is_some();
+    print_result(o.common.output.json, &pts, || {
+        text::orbit(&pts, on_platform)
+    })
+}
+
+fn static_cmd(s: StaticArgs) -> anyhow::Result<()> {
+    let r = match &s.recording {
+        Some(path) => {
+            // the rules of `clino allan` too: comments, unused columns, gaps, dropouts
+            let rec = read_static_record(path, s.gaps.into())?;
+            for n in &rec.notes {
+                eprintln!("warning: {n}");
+            }
+            static_test::static_test_record(&rec, &s.common.filter, s.settle_s)?
+        }
+        None => static_test::static_test_simulated(
+            &s.common.sensor()?,
+            s.common.rate_hz,
+            s.duration_s,
+            s.common.seed,
+            &s.common.filter,
+            s.settle_s,
+        )?,
+    };
+    if let Some(p) = &s.common.output.plot {
+        plots::static_plot(p, &r)?;
+    }
+    print_result(s.common.output.json, &r, || text::static_test(&r))
+}
+
+fn lab_analysis(a: AnalyzeArgs) -> anyhow::Result<()> {
+    let exc = a.excitation.into();
+    let t = Table::read(&a.recording)?;
+    let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s).map_err(|e| {
+        if e.file.is_none() {
+            e.in_file(&a.recording)
+        } else {
+            e
+        }
+    })?;
+    print_result(a.json, &r, || text::lab_analysis(&r, exc))
+}
+
+fn record(r: RecordArgs) -> anyhow::Result<()> {
+    let exc: Excitation = r.excitation.into();
+    let amp = match exc {
+        Excitation::Conical => r.alpha_deg.to_radians(),
+        Excitation::Orbit => r.amplitude_mm * 1e-3,
+    };
+    clino::testbench::recording::simulate_lab_recording(
+        &r.out,
+        exc,
+        amp,
+        r.freq_hz,
+        &r.servo.legs(),
+        &r.sensor.model(r.bandwidth_hz)?,
+        &r.filter,
+        r.rate_hz,
+        r.duration_s,
+        r.seed,
+    )?;
+    eprintln!("wrote {}", r.out.display());
     Ok(())
 }

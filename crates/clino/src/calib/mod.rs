@@ -44,6 +44,7 @@
 pub mod file;
 pub mod fit;
 pub mod gyro;
+pub mod method;
 pub mod recording;
 pub mod six;
 pub mod statics;
@@ -54,6 +55,7 @@ mod tests;
 
 pub use file::{CalibrationFile, TriadEntry};
 pub use fit::{FitOptions, ModelKind, Observation, TriadFit, fit_triad};
+pub use method::{CalibOptions, Calibration, Method, Outcome, calibrate};
 pub use recording::Recording;
 pub use statics::{Pose, StaticOptions, StaticReport, detect_static};
 
@@ -96,7 +98,7 @@ pub fn entry(
 
 /// Accelerometer calibration of a continuous recording: static detection, then
 /// the multi-position fit of `model` (using `ref_inclination_deg` when present).
-pub fn calibrate_accel(
+pub(crate) fn calibrate_accel(
     rec: &Recording,
     model: ModelKind,
     statics: &StaticOptions,
@@ -119,7 +121,11 @@ pub fn calibrate_accel(
 /// samples (at most 3000, evenly decimated). `field_ut` is the local field
 /// magnitude; when `None` the mean raw magnitude about the centre is used (the
 /// scale of a magnetometer is not observable from its own data).
-pub fn calibrate_mag(rec: &Recording, model: ModelKind, field_ut: Option<f64>) -> Result<TriadFit> {
+pub(crate) fn calibrate_mag(
+    rec: &Recording,
+    model: ModelKind,
+    field_ut: Option<f64>,
+) -> Result<TriadFit> {
     let mag = rec.mag.as_ref().ok_or_else(|| {
         rec.error(
             ErrorKind::MissingColumn,
@@ -242,7 +248,7 @@ pub fn validation_set(opt: &synth::SynthOptions, n: usize, seed: u64) -> Vec<(Ve
 /// Plot a fit's residuals per observation, before and after calibration
 /// (magnitude error, or vector error for rate-table fits; with reference
 /// inclinations a second file `<stem>_inclination.<ext>` shows the inclination error).
-pub fn plot_residuals(path: &std::path::Path, fit: &TriadFit) -> Result<()> {
+pub(crate) fn plot_residuals(path: &std::path::Path, fit: &TriadFit) -> Result<()> {
     use crate::report::{PlotSpec, Series, line_plot};
     let (scale, unit) = match fit.kind {
         TriadKind::Accel => (1e3 / clino_core::G0, "mg"),
@@ -325,7 +331,7 @@ pub fn plot_residuals(path: &std::path::Path, fit: &TriadFit) -> Result<()> {
 /// Plot per-item errors before and after calibration (x: item number): the
 /// six-position method's pose magnitudes, or the gravity-direction mismatch of
 /// the gyro's moves between poses.
-pub fn plot_before_after(
+pub(crate) fn plot_before_after(
     path: &std::path::Path,
     title: &str,
     y_label: &str,

@@ -5,7 +5,15 @@
 //! the column i of K is (u(+i) − u(−i))/(2g), and u₀ is the mean of the six
 //! readings (the ±g terms cancel). The calibration applies M = K⁻¹. Closed form;
 //! all twelve parameters are determined because the fixture defines the axes.
+//!
+//! Uncertainty (1σ): the mean of a pose of n samples whose reading scatters
+//! by s (root of the summed variances of the three axes) has, per axis, the
+//! variance v = s²/(3n) (white, isotropic noise; a group of G poses averages
+//! to Σv/G²). Then var K_ij = (v₊ⱼ + v₋ⱼ)/(2g)², var u0_i = Σ₆ v/36, and
+//! for M = K⁻¹ to first order dM = −M·dK·M, so
+//! var M_ab = Σ_cd (M_ac·M_db)²·var K_cd (the K entries are independent).
 
+use super::fit::ParamEstimate;
 use super::statics::Pose;
 use crate::{Error, ErrorKind, Result};
 use clino_core::Vec3;
@@ -24,6 +32,10 @@ pub struct SixPosition {
     pub bias: [f64; 3],
     /// Pose used for +x, −x, +y, −y, +z, −z (averaged when several qualify).
     pub poses: [Vec<usize>; 6],
+    /// The applied parameters with 1σ: `M_ij` (M = K⁻¹, 1 SI per raw) and
+    /// `u0_i` (raw), named as the multi-position fit names them. See
+    /// [`six_position`] for how the 1σ are propagated.
+    pub params: Vec<ParamEstimate>,
 }
 
 const NAMES: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
@@ -75,6 +87,7 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
             / v.len() as f64
     };
     let m: Vec<Vec3> = (0..6).map(mean).collect();
+    let var: Vec<f64> = (0..6).map(|k| mean_variance(poses, &groups[k])).collect();
     let mut k = Matrix3::zeros();
     for i in 0..3 {
         k.set_column(i, &((m[2 * i] - m[2 * i + 1]) / (2.0 * g)));
@@ -88,6 +101,7 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
     })?;
     let temps: Vec<f64> = poses.iter().filter_map(|p| p.temp_c).collect();
     let valid = super::valid_range(&temps);
+    let params = params(&kinv, &u0, &var, g);
     Ok(SixPosition {
         calibration: TriadCalibration {
             model: TriadModel::Matrix(MatrixModel {
@@ -99,7 +113,53 @@ pub fn six_position(poses: &[Pose], g: f64) -> Result<SixPosition> {
         k: std::array::from_fn(|i| std::array::from_fn(|j| k[(i, j)])),
         bias: [u0.x, u0.y, u0.z],
         poses: groups,
+        params,
     })
+}
+
+/// Per-axis variance of the mean reading of a group of poses (see the module docs).
+fn mean_variance(poses: &[Pose], group: &[usize]) -> f64 {
+    let sum: f64 = group
+        .iter()
+        .map(|&i| {
+            poses.iter().find(|p| p.index == i).map_or(f64::NAN, |p| {
+                p.acc_std.unwrap_or(f64::NAN).powi(2) / (3.0 * p.n as f64)
+            })
+        })
+        .sum();
+    sum / (group.len() * group.len()) as f64
+}
+
+/// M and u₀ with their 1σ (module docs), M row-major then u₀.
+fn params(m: &Matrix3<f64>, u0: &Vec3, var: &[f64], g: f64) -> Vec<ParamEstimate> {
+    const AX: [&str; 3] = ["x", "y", "z"];
+    // var K_cd: column d from the ±d groups (isotropic: same for every row c)
+    let var_k = |d: usize| (var[2 * d] + var[2 * d + 1]) / (4.0 * g * g);
+    let mut out = Vec::with_capacity(12);
+    for a in 0..3 {
+        for b in 0..3 {
+            let v: f64 = (0..3)
+                .flat_map(|c| (0..3).map(move |d| (c, d)))
+                .map(|(c, d)| (m[(a, c)] * m[(d, b)]).powi(2) * var_k(d))
+                .sum();
+            out.push(ParamEstimate {
+                name: format!("M_{}{}", AX[a], AX[b]),
+                value: m[(a, b)],
+                sigma: v.sqrt(),
+                unit: "1 (SI per raw)".into(),
+            });
+        }
+    }
+    let var_u0 = var.iter().sum::<f64>() / 36.0;
+    for (i, ax) in AX.iter().enumerate() {
+        out.push(ParamEstimate {
+            name: format!("u0_{ax}"),
+            value: u0[i],
+            sigma: var_u0.sqrt(),
+            unit: "m/s² (raw)".into(),
+        });
+    }
+    out
 }
 
 /// Magnitude error |y| − g of every pose before (raw) and after a calibration:
@@ -168,5 +228,65 @@ mod tests {
         // a missing position is named
         let e = six_position(&poses[..5], g).unwrap_err();
         assert!(e.message.contains("-z up"), "{}", e.message);
+    }
+
+    #[test]
+    fn one_sigma_matches_the_scatter_of_repeated_calibrations() {
+        // independent check of the propagation: many noisy repetitions of the
+        // six poses; the spread of M and u0 over them is the 1σ reported
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        let k = Matrix3::new(1.05, 0.02, -0.03, -0.01, 0.93, 0.04, 0.03, -0.02, 1.1);
+        let u0 = Vec3::new(0.08, -0.05, 0.12);
+        let g = 9.80665;
+        let (s_pose, n) = (0.06, 50usize); // reading scatter, samples per pose
+        let per_axis = Normal::new(0.0, s_pose / (3.0 * n as f64).sqrt()).unwrap();
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let dirs = [
+            Vec3::x(),
+            -Vec3::x(),
+            Vec3::y(),
+            -Vec3::y(),
+            Vec3::z(),
+            -Vec3::z(),
+        ];
+        let trials = 3000;
+        let mut sum = [0.0f64; 12];
+        let mut sum2 = [0.0f64; 12];
+        let mut reported = Vec::new();
+        for _ in 0..trials {
+            let poses: Vec<Pose> = dirs
+                .iter()
+                .enumerate()
+                .map(|(i, d)| {
+                    let noise = Vec3::from_fn(|_, _| per_axis.sample(&mut rng));
+                    let mut p = pose(i, k * (d * g) + u0 + noise);
+                    p.acc_std = Some(s_pose);
+                    p.n = n;
+                    p
+                })
+                .collect();
+            let r = six_position(&poses, g).unwrap();
+            for (j, p) in r.params.iter().enumerate() {
+                sum[j] += p.value;
+                sum2[j] += p.value * p.value;
+            }
+            reported = r.params;
+        }
+        assert_eq!(reported.len(), 12);
+        assert_eq!(reported[1].name, "M_xy");
+        assert_eq!(reported[11].name, "u0_z");
+        for j in 0..12 {
+            let mean = sum[j] / trials as f64;
+            let sd = (sum2[j] / trials as f64 - mean * mean).max(0.0).sqrt();
+            let ratio = reported[j].sigma / sd;
+            // 3000 trials: the spread itself is known to about ±1.3 % (1σ)
+            assert!(
+                (ratio - 1.0).abs() < 0.06,
+                "{}: {} vs {sd}",
+                reported[j].name,
+                reported[j].sigma
+            );
+        }
     }
 }

@@ -286,6 +286,22 @@ pub fn analyze(acc: &SixAxisAccelerometer, max_size: usize) -> Analysis {
 }
 
 impl Analysis {
+    /// For each size (in order), the sets that are restorable but not
+    /// isolable by the general scheme: restorable when told where the fault
+    /// is, but the residuals cannot say where. Sizes without any are left out.
+    pub fn restorable_not_isolable(&self) -> Vec<(String, Vec<String>)> {
+        let empty = Vec::new();
+        self.restorable
+            .iter()
+            .filter_map(|(k, sets)| {
+                let iso = self.isolable.get(k).unwrap_or(&empty);
+                let not_iso: Vec<String> =
+                    sets.iter().filter(|s| !iso.contains(s)).cloned().collect();
+                (!not_iso.is_empty()).then(|| (k.clone(), not_iso))
+            })
+            .collect()
+    }
+
     /// A short table of the counts and the Table 1 comparison.
     pub fn summary(&self) -> String {
         let n = |m: &SetsBySize, k: &str| m.get(k).map_or(0, |v| v.len());

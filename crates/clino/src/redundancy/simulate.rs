@@ -577,6 +577,20 @@ pub fn sweep(
     Ok((summarize(kind, &reports), reports))
 }
 
+/// [`sweep`] for each of `kinds` in turn: one summary per kind, in order;
+/// `progress(done, total)` counts the runs of the kind in progress.
+pub fn sweep_kinds(
+    sim: &Simulator,
+    sets: &[FaultSet],
+    kinds: &[FaultKind],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<SweepSummary>> {
+    kinds
+        .iter()
+        .map(|&k| sweep(sim, sets, k, progress).map(|(s, _)| s))
+        .collect()
+}
+
 fn summarize(kind: FaultKind, r: &[SimReport]) -> SweepSummary {
     let mean = |v: &[f64]| {
         if v.is_empty() {

@@ -233,65 +233,6 @@ pub fn survey(readings: &[StationReading], opt: &SurveyOptions) -> Result<Survey
     })
 }
 
-impl SurveyReport {
-    /// A readable table.
-    pub fn table(&self) -> String {
-        let o =
-            |v: Option<f64>, p: usize| v.map(|x| format!("{x:.p$}")).unwrap_or_else(|| "-".into());
-        let mut s = String::from(
-            "   md_m    inc_deg    azi_deg  gtf_deg  mtf_deg     G_L_g     H_L_uT  dip_deg\n",
-        );
-        for st in &self.stations {
-            s += &format!(
-                "{:7.2} {:10.4} {:>10} {:>8} {:>8} {:9.5} {:>10} {:>8}\n",
-                st.md_m,
-                st.inclination_deg,
-                o(st.azimuth_deg, 4),
-                o(st.gravity_toolface_deg, 2),
-                o(st.magnetic_toolface_deg, 2),
-                st.g_total_g,
-                o(st.h_total_ut, 3),
-                o(st.dip_deg, 3)
-            );
-        }
-        if !self.roll_tests.is_empty() {
-            s += "\nroll tests (MWD QC: Δinc < 0.1°, Δazi < 1°, ΔG_L < 0.003 g)\n";
-            for r in &self.roll_tests {
-                s += &format!(
-                    "  md {:.2} m, {} readings: Δinc {:.4}° {}, Δazi {} {}, ΔG_L {:.5} g {} → {}\n",
-                    r.md_m,
-                    r.n,
-                    r.inclination_range_deg,
-                    if r.inclination_ok { "ok" } else { "FAIL" },
-                    o(r.azimuth_range_deg, 4),
-                    match r.azimuth_ok {
-                        Some(true) => "ok",
-                        Some(false) => "FAIL",
-                        None => "n/a",
-                    },
-                    r.g_total_range_g,
-                    if r.g_total_ok { "ok" } else { "FAIL" },
-                    if r.pass { "PASS" } else { "FAIL" }
-                );
-            }
-        }
-        s += "\ntrajectory (minimum curvature, tie-on at the first station)\n   md_m    inc_deg    azi_deg     tvd_m    north_m     east_m  dls_deg_30m\n";
-        for t in &self.trajectory {
-            s += &format!(
-                "{:7.2} {:10.4} {:10.4} {:9.3} {:10.3} {:10.3} {:12.4}\n",
-                t.md_m,
-                t.inclination_deg,
-                t.azimuth_deg,
-                t.tvd_m,
-                t.north_m,
-                t.east_m,
-                t.dls_deg_per_30m
-            );
-        }
-        s
-    }
-}
-
 /// The `clino demo` section: a simulated build-and-hold well surveyed from
 /// tool readings (MPU-class noise), a 12-toolface roll test, and the trajectory.
 pub fn demo_summary() -> Result<String> {

@@ -42,12 +42,14 @@
 pub mod fit;
 pub mod model;
 pub mod readings;
+pub mod run;
 
 use crate::{Error, ErrorKind, Result};
 use clino_core::ImuSample;
 pub use fit::FittedModel;
 pub use model::{B_FLOOR, CONFIDENCE, NoiseModel};
 use model::{avar_cov_matrix, chi2_factors, edf_white};
+pub use run::{AllanReport, allan_record, allan_simulated};
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};
 

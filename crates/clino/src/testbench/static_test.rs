@@ -78,6 +78,38 @@ fn drift(t: &[f64], y_rad: &[f64]) -> AngleDrift {
     }
 }
 
+/// Static test of a recording read by
+/// [`read_static_record`](crate::testbench::static_record::read_static_record)
+/// (at least 3 samples; errors name the file).
+pub fn static_test_record(
+    rec: &crate::testbench::static_record::StaticRecord,
+    filter: &str,
+    settle_s: f64,
+) -> Result<StaticResult> {
+    rec.require(3, "a static test")?;
+    static_test(&rec.samples, filter, settle_s)
+}
+
+/// Static test of the sensor `model` simulated level at rest for
+/// `duration_s` at `rate_hz` (noise seed `seed`).
+pub fn static_test_simulated(
+    model: &crate::sim::ImuModel,
+    rate_hz: f64,
+    duration_s: f64,
+    seed: u64,
+    filter: &str,
+    settle_s: f64,
+) -> Result<StaticResult> {
+    model.validate()?;
+    let smp = model.simulate(
+        &crate::sim::motion::Static::level(),
+        rate_hz,
+        duration_s,
+        seed,
+    );
+    static_test(&smp, filter, settle_s)
+}
+
 /// Static test of `filter` on a recording at rest: the filter runs over all
 /// samples; the first `settle_s` seconds are excluded from the statistics.
 pub fn static_test(samples: &[ImuSample], filter: &str, settle_s: f64) -> Result<StaticResult> {
