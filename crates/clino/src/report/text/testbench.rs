@@ -166,7 +166,7 @@ mod tests {
             orbit_amplitude_mm: None,
             reference_tilt_pp_deg: None,
         };
-        let s = orbit(&[p.clone()], false);
+        let s = orbit(std::slice::from_ref(&p), false);
         assert_eq!(s.lines().filter(|l| l.starts_with('#')).count(), 1);
         assert_eq!(
             s.lines().last().unwrap(),
