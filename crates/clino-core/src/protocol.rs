@@ -289,7 +289,10 @@ impl Frame {
         match payload_len(t) {
             None => return Err(FrameError::UnknownType(t)),
             Some(n) if n != p.len() => {
-                return Err(FrameError::BadLength { ty: t, len: p.len() });
+                return Err(FrameError::BadLength {
+                    ty: t,
+                    len: p.len(),
+                });
             }
             Some(_) => {}
         }
@@ -874,7 +877,9 @@ pub struct LinkOutput {
 /// (plus an offset after a reset, so host time keeps increasing: the first
 /// sample after a reset comes one nominal period, 1/rate, after the last one
 /// before it). A reset is a sequence that restarts after a CONFIG (seq 0 or
-/// going back), or board time going back.
+/// going back), or board time going back (modulo 2³²); after a restart the
+/// board's clock is taken as restarted when it reads less than before (a
+/// STOP/START keeps the clock running).
 #[derive(Clone, Debug, Default)]
 pub struct Link {
     config: Option<Config>,
@@ -951,8 +956,11 @@ impl Link {
                     sample: None,
                 };
             }
-            let clock_back = s.t_us.wrapping_sub(t) >= 1 << 31;
             let restart = self.config_since_sample && (s.seq == 0 || back);
+            // a board clock that restarted reads less than before; modulo 2³² that
+            // can look forward (a board up for over 35.8 min), so after a restart
+            // the plain comparison decides
+            let clock_back = s.t_us.wrapping_sub(t) >= 1 << 31 || (restart && s.t_us < t);
             if restart || clock_back {
                 notice = Some(Notice::Reset {
                     clock_restarted: clock_back,
@@ -1076,7 +1084,10 @@ mod tests {
     #[test]
     fn cobs_rejects_bad_input() {
         let mut d = [0u8; 8];
-        assert_eq!(cobs_decode(&[0x03, 0x11], &mut d), Err(CobsError::Truncated));
+        assert_eq!(
+            cobs_decode(&[0x03, 0x11], &mut d),
+            Err(CobsError::Truncated)
+        );
         assert_eq!(cobs_decode(&[0x02, 0x00], &mut d), Err(CobsError::ZeroByte));
         assert_eq!(
             cobs_decode(&[0x05, 1, 2, 3, 4], &mut [0u8; 3]),
@@ -1327,6 +1338,16 @@ mod tests {
         for (a, b) in t.iter().zip(want) {
             assert!((a - b).abs() < 1e-12, "{t:?}");
         }
+        // a board up for 60 min resets: modulo 2³² its new clock looks ahead
+        let late = 3_600_000_000u32;
+        let (n, s) = link_run(&[c, sample(7, late), c, sample(0, 1_000)]);
+        assert_eq!(
+            n[2],
+            Notice::Reset {
+                clock_restarted: true
+            }
+        );
+        assert!((s[1].1 - s[0].1 - 0.01).abs() < 1e-9);
         // a gap together with a CONFIG is a gap, not a reset
         let (n, _) = link_run(&[c, sample(10, 0), c, sample(12, 20_000)]);
         assert_eq!(n[2], Notice::Gap { missing: 1 });
