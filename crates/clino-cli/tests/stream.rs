@@ -26,7 +26,9 @@ fn tmp(name: &str) -> PathBuf {
 /// The frames of frames.bin, each with its delimiter: [CONFIG, SAMPLE 0, SAMPLE 1, …].
 fn frames() -> Vec<Vec<u8>> {
     let bin = std::fs::read(vector_dir().join("frames.bin")).unwrap();
-    bin.split_inclusive(|&b| b == 0).map(|f| f.to_vec()).collect()
+    bin.split_inclusive(|&b| b == 0)
+        .map(|f| f.to_vec())
+        .collect()
 }
 
 /// frames.csv: header, then one line per sample.
@@ -55,6 +57,12 @@ fn openpty() -> Pty {
         )
     };
     assert_eq!(r, 0, "openpty failed");
+    // SAFETY: setting close-on-exec on two descriptors we own; without it every
+    // `clino stream` started later would hold the board's end open too.
+    unsafe {
+        libc::fcntl(m, libc::F_SETFD, libc::FD_CLOEXEC);
+        libc::fcntl(s, libc::F_SETFD, libc::FD_CLOEXEC);
+    }
     // SAFETY: `s` is an open terminal; termios is plain data filled by tcgetattr.
     let path = unsafe {
         let mut t: libc::termios = std::mem::zeroed();
@@ -171,7 +179,12 @@ fn the_shipped_vector_is_reproducible_and_decodes_to_frames_csv() {
     assert!(f[1..].iter().all(|x| x.len() <= 25));
     // the worked example of PROTOCOL.md
     let doc = std::fs::read_to_string(vector_dir().join("PROTOCOL.md")).unwrap();
-    let hex = |b: &[u8]| b.iter().map(|x| format!("{x:02X}")).collect::<Vec<_>>().join(" ");
+    let hex = |b: &[u8]| {
+        b.iter()
+            .map(|x| format!("{x:02X}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     assert!(doc.contains(&hex(&f[0])), "CONFIG example {}", hex(&f[0]));
     assert!(doc.contains(&hex(&f[1])), "SAMPLE example {}", hex(&f[1]));
 }
@@ -205,7 +218,11 @@ fn a_pty_board_with_faults_gives_exactly_the_surviving_samples() {
         }
         if flipped.contains(&k) {
             let mut bad = frame.clone();
-            bad[10] = if bad[10] == 0x80 { 0x81 } else { bad[10] ^ 0x80 };
+            bad[10] = if bad[10] == 0x80 {
+                0x81
+            } else {
+                bad[10] ^ 0x80
+            };
             wire.extend_from_slice(&bad);
             continue;
         }
@@ -258,7 +275,12 @@ fn a_pty_board_with_faults_gives_exactly_the_surviving_samples() {
         assert!(err.contains(fact), "missing '{fact}' in:\n{err}");
     }
     // each fault was also reported when it happened
-    for msg in ["bad frame", "garbage bytes discarded", "sequence gap", "repeated frame"] {
+    for msg in [
+        "bad frame",
+        "garbage bytes discarded",
+        "sequence gap",
+        "repeated frame",
+    ] {
         assert!(err.contains(msg), "no '{msg}' report in:\n{err}");
     }
     drop(pty.slave);
@@ -306,9 +328,16 @@ fn a_board_reset_mid_stream_is_reported_and_time_goes_on() {
         .map(|l| l.split(',').next().unwrap().parse().unwrap())
         .collect();
     assert_eq!(t.len(), 900);
-    assert!(t.windows(2).all(|w| w[1] > w[0]), "host time must keep increasing");
+    assert!(
+        t.windows(2).all(|w| w[1] > w[0]),
+        "host time must keep increasing"
+    );
     // one period of 286 Hz (3497 µs, rounded up) across the reset
-    assert!((t[600] - t[599] - 3497e-6).abs() < 1e-9, "{}", t[600] - t[599]);
+    assert!(
+        (t[600] - t[599] - 3497e-6).abs() < 1e-9,
+        "{}",
+        t[600] - t[599]
+    );
     assert!(out[601].ends_with(",fused"), "{}", out[601]);
     drop(pty.slave);
 }
@@ -329,7 +358,9 @@ fn a_wrong_baud_rate_is_named_and_a_lost_port_is_reopened() {
     run.connected(1);
     // what a board at another baud rate looks like: bytes, never a frame
     let mut m = pty.master;
-    let noise: Vec<u8> = (0..3000u32).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
+    let noise: Vec<u8> = (0..3000u32)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+        .collect();
     send(&mut m, &noise[..1500]);
     std::thread::sleep(Duration::from_millis(700));
     send(&mut m, &noise[1500..]);
@@ -339,7 +370,9 @@ fn a_wrong_baud_rate_is_named_and_a_lost_port_is_reopened() {
     // unplug: the pty goes away; plug in again: a new one behind the same name
     drop(m);
     drop(pty.slave);
-    run.wait_for("the disconnection", |_, e| e.iter().any(|l| l.contains("went away")));
+    run.wait_for("the disconnection", |_, e| {
+        e.iter().any(|l| l.contains("went away"))
+    });
     let mut pty2 = openpty();
     std::fs::remove_file(&link).unwrap();
     std::os::unix::fs::symlink(&pty2.path, &link).unwrap();
@@ -367,8 +400,20 @@ fn replay_at_speed_equals_fuse_sample_for_sample() {
     ] {
         let rec = dir.join("rec.parquet");
         let o = Command::new(env!("CARGO_BIN_EXE_clino"))
-            .args(["stream", "--replay", file.to_str().unwrap(), "--speed", "1000"])
-            .args(["--filter", filter, "--csv", "--record", rec.to_str().unwrap()])
+            .args([
+                "stream",
+                "--replay",
+                file.to_str().unwrap(),
+                "--speed",
+                "1000",
+            ])
+            .args([
+                "--filter",
+                filter,
+                "--csv",
+                "--record",
+                rec.to_str().unwrap(),
+            ])
             .output()
             .unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
@@ -399,7 +444,14 @@ fn replay_keeps_the_recordings_clock() {
     let data = vector_dir().join("frames.csv"); // 7.0 s of samples
     let t = Instant::now();
     let o = Command::new(env!("CARGO_BIN_EXE_clino"))
-        .args(["stream", "--replay", data.to_str().unwrap(), "--speed", "10", "--csv"])
+        .args([
+            "stream",
+            "--replay",
+            data.to_str().unwrap(),
+            "--speed",
+            "10",
+            "--csv",
+        ])
         .output()
         .unwrap();
     let wall = t.elapsed().as_secs_f64();

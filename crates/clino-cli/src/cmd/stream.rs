@@ -110,30 +110,40 @@ impl Terminal {
         }
         let more = std::mem::take(held);
         *at = now;
+        match more {
+            0 => self.say_now(text),
+            n => self.say_now(&format!("{text} (and {n} more since the last report)")),
+        }
+    }
+
+    fn say_now(&self, text: &str) {
         if self.view {
             print!("\r\x1b[2K");
             let _ = std::io::stdout().flush();
         }
-        let more = if more > 0 {
-            format!(" (and {more} more since the last report)")
-        } else {
-            String::new()
-        };
-        eprintln!("clino stream: {text}{more}");
+        eprintln!("clino stream: {text}");
     }
 }
 
 impl StreamObserver for Terminal {
     fn notice(&mut self, n: &SourceNotice, _: &StreamCounts) {
+        use clino_core::protocol::Notice;
+        // the kinds that come in bursts are held to one line a second; the rest always print
         let key = match n {
-            SourceNotice::BadFrame(e) => e.kind_name().to_string(),
-            SourceNotice::Link(l) => format!("{:?}", std::mem::discriminant(l)),
-            other => format!("{:?}", std::mem::discriminant(other)),
+            SourceNotice::BadFrame(e) => e.kind_name(),
+            SourceNotice::Garbage { .. } => "garbage",
+            SourceNotice::Link(Notice::Gap { .. }) => "gap",
+            SourceNotice::Link(Notice::Repeated { .. }) => "repeated",
+            SourceNotice::Link(Notice::NoConfig) => "no config",
+            _ => {
+                self.say_now(&n.to_string());
+                return;
+            }
         };
-        self.say(&key, &n.to_string());
+        self.say(key, &n.to_string());
     }
     fn message(&mut self, text: &str) {
-        self.say(text, text);
+        self.say_now(text);
     }
     fn tick(&mut self, live: &LiveStatus) {
         if self.view {
