@@ -199,8 +199,7 @@ fn a_pty_board_with_faults_gives_exactly_the_surviving_samples() {
     let truncated = 1800;
     let mut survivors = vec![lines[0].clone()];
     let mut garbage_total = 0;
-    for k in 0..2000 {
-        let frame = &f[k + 1];
+    for (k, frame) in f[1..].iter().enumerate() {
         if let Some(n) = [(300, 7), (900, 13), (1500, 40)]
             .iter()
             .find(|(at, _)| *at == k)

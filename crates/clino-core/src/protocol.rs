@@ -984,10 +984,8 @@ impl Link {
             }
         }
         // forward time (the clock-back case has been re-based above)
-        let u = match self.clock.update(s.t_us) {
-            Ok(u) => u,
-            Err(_) => 0, // unreachable: a step back is a reset, handled above
-        };
+        // (never an error: a step back is a reset, re-based above)
+        let u = self.clock.update(s.t_us).unwrap_or(0);
         let host = (self.epoch_us + u as i64).max(0) as u64;
         self.last_host_us = Some(host);
         self.last = Some((s.seq, s.t_us));

@@ -173,7 +173,7 @@ pub struct StreamConfig<'a> {
     pub dials: bool,
 }
 
-impl<'a> StreamConfig<'a> {
+impl StreamConfig<'_> {
     /// A stream through this filter, buffer of 4096 samples, no dials.
     pub fn new(filter: FilterConfig) -> Self {
         Self {
