@@ -34,6 +34,8 @@ enum Command {
     Survey(cmd::survey::Args),
     /// Convert a recording between CSV and Parquet (same column names).
     Convert(cmd::convert::Args),
+    /// Live: a board on a serial port (clino's protocol) or a replayed recording through the filter.
+    Stream(cmd::stream::Args),
 }
 
 fn main() -> std::process::ExitCode {
@@ -57,6 +59,7 @@ fn main() -> std::process::ExitCode {
         Command::Calibrate(a) => cmd::calibrate::run(a),
         Command::Survey(a) => cmd::survey::run(a),
         Command::Convert(a) => cmd::convert::run(a),
+        Command::Stream(a) => cmd::stream::run(a),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

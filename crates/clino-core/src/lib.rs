@@ -11,6 +11,8 @@
 //! * [`compensate`] — lever-arm (tangential r·dω/dt and centripetal ω×(ω×r))
 //!   correction of the accelerometer before fusion;
 //! * [`tilt`] — every tilt convention of the field in one place;
+//! * [`protocol`] — the serial wire protocol of clino's boards (COBS frames
+//!   with a CRC, a streaming decoder, counts → SI);
 //! * [`pipeline`] — calibrate → compensate → filter → tilt per sample
 //!   ([`Pipeline`]): the only loop that runs a filter, on a device or a laptop.
 //!
@@ -57,6 +59,7 @@ pub mod compensate;
 pub mod filter;
 pub(crate) mod math;
 pub mod pipeline;
+pub mod protocol;
 pub mod sample;
 pub mod sensor;
 pub mod tilt;

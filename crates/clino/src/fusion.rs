@@ -683,7 +683,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.
-fn write_attitude<S: RowSink>(
+pub fn write_attitude<S: RowSink>(
     out: &mut S,
     q: Option<Attitude>,
     t_s: f64,

@@ -34,6 +34,7 @@ pub mod redundancy;
 pub mod report;
 pub mod sim;
 pub mod smooth;
+pub mod stream;
 pub mod survey;
 pub mod testbench;
 

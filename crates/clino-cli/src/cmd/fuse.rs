@@ -4,8 +4,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use clino::fusion::{
-    FUSE_HEADER, FilterConfig, FuseOptions, FuseReport, TiltTrace, apply_params, fuse_into,
-    fuse_traced, parse_spec,
+    FUSE_HEADER, FilterConfig, FuseOptions, FuseReport, TiltTrace, fuse_into, fuse_traced,
 };
 use clino::io::{AtomicFile, ImuCsvReader, ParquetRowWriter};
 
@@ -72,16 +71,6 @@ fn write_out<R: std::io::Read>(
     Ok(rep)
 }
 
-/// The filter configuration the arguments name (checked before any file is touched).
-fn filter_config(a: &Args) -> anyhow::Result<FilterConfig> {
-    let mut spec = [parse_spec(&a.filter)?];
-    apply_params(&mut spec, &a.gains.params())?;
-    let config = FilterConfig::from_spec(spec[0])
-        .with_lever_arm(a.stages.lever_arm()?)
-        .with_offline(a.stages.offline);
-    config.validate()?;
-    Ok(config)
-}
 
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
@@ -107,7 +96,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         imu_only: a.calibration.is_none(),
         ..a.read.options()?
     };
-    let config = filter_config(&a)?;
+    // the parameters are checked before any file is touched
+    let config = super::filter_config(&a.filter, &a.gains, &a.stages)?;
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
         None => None,

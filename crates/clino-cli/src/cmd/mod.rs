@@ -7,10 +7,12 @@ pub mod eval;
 pub mod fuse;
 pub mod redundancy;
 pub mod stewart;
+pub mod stream;
 pub mod survey;
 pub mod testbench;
 
 use clap::ValueEnum;
+use clino::fusion::{FilterConfig, apply_params, parse_spec};
 use clino::io::{AccelUnit, GyroUnit, ReadOptions};
 use std::path::PathBuf;
 
@@ -165,6 +167,22 @@ pub fn show_fuse_progress(bar: &indicatif::ProgressBar, p: clino::fusion::FusePr
             bar.set_position(stage.index() * n as u64 + k as u64);
         }
     }
+}
+
+/// The pipeline the flags name (`--filter`, the gain flags, `--lever-arm`,
+/// `--offline`), checked: shared by `fuse` and `stream`.
+pub fn filter_config(
+    filter: &str,
+    gains: &GainArgs,
+    stages: &StageArgs,
+) -> anyhow::Result<FilterConfig> {
+    let mut spec = [parse_spec(filter)?];
+    apply_params(&mut spec, &gains.params())?;
+    let config = FilterConfig::from_spec(spec[0])
+        .with_lever_arm(stages.lever_arm()?)
+        .with_offline(stages.offline);
+    config.validate()?;
+    Ok(config)
 }
 
 /// How to read a recording (shared by `fuse` and `eval`).

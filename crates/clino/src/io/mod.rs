@@ -14,6 +14,8 @@
 //!   (`_rad_s`, `_deg_s`, `_m_s2`, `_g`) or, for bare names, by flag;
 //! * [`ParquetRowWriter`] and [`CsvLineWriter`] write rows ([`RowSink`]);
 //!   [`convert`] copies a table between the formats;
+//! * [`source`]: sample sources behind one trait ([`source::SampleSource`]):
+//!   a file, a replay at a chosen speed, a serial port speaking clino's protocol;
 //! * [`AtomicFile`] makes an output file appear whole or not at all.
 //!
 //! The CSV layout is that of the BROAD benchmark files shipped with the
@@ -27,6 +29,7 @@ mod convert;
 mod csv_in;
 mod csv_out;
 pub mod parquet;
+pub mod source;
 mod table;
 
 pub use atomic::AtomicFile;

@@ -1,0 +1,226 @@
+//! `clino stream`: a board on a serial port, or a recording replayed, through
+//! the pipeline live: a terminal view, fused CSV rows, a recording.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use clino::io::source::{
+    FileSource, ReplaySource, SampleSource, SerialOptions, SerialSource, SourceNotice,
+};
+use clino::stream::{
+    FusedCsv, LiveStatus, Recorder, StreamConfig, StreamCounts, StreamObserver, StreamOutputs,
+};
+
+use super::{GainArgs, ReadArgs, StageArgs};
+
+/// Arguments of `clino stream`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Serial port of a board running clino firmware (e.g. /dev/ttyACM0, /dev/ttyUSB0).
+    #[arg(
+        long,
+        value_name = "DEVICE",
+        required_unless_present = "replay",
+        conflicts_with = "replay"
+    )]
+    pub port: Option<String>,
+    /// Baud rate of the port (8N1).
+    #[arg(long, default_value_t = 115_200, value_name = "N")]
+    pub baud: u32,
+    /// Replay a recording (CSV or Parquet, as `clino fuse` reads) on its own clock.
+    #[arg(long, value_name = "FILE")]
+    pub replay: Option<PathBuf>,
+    /// Replay speed, × real time (`inf`: as fast as the pipeline takes it).
+    #[arg(long, default_value_t = 1.0, value_name = "X", requires = "replay")]
+    pub speed: f64,
+    /// Filter: poisson, complementary, mahony, madgwick or dynamic, with any
+    /// parameter as NAME:KEY=VALUE,… (as `clino fuse`).
+    #[arg(long, short = 'f', default_value = "dynamic", long_help = clino::fusion::filter_help())]
+    pub filter: String,
+    #[command(flatten)]
+    pub gains: GainArgs,
+    #[command(flatten)]
+    pub stages: StageArgs,
+    #[command(flatten)]
+    pub read: ReadArgs,
+    /// Calibrate every sample with this calibration file (from `clino calibrate`) before fusion.
+    #[arg(long, value_name = "CAL.toml")]
+    pub calibration: Option<PathBuf>,
+    /// Write fused rows to stdout, with the columns of `clino fuse`, one flushed line per sample.
+    #[arg(long)]
+    pub csv: bool,
+    /// Record the raw samples (SI units; CSV, or Parquet by the extension) for `clino fuse`;
+    /// flushed every second, complete after Ctrl-C.
+    #[arg(long, value_name = "FILE.csv|parquet")]
+    pub record: Option<PathBuf>,
+    /// Send the filter's roll and pitch to the board's dials (10 times a second).
+    #[arg(long, requires = "port")]
+    pub dials: bool,
+    /// Report when no valid frame has arrived for this many seconds (wrong baud rate, wrong port).
+    #[arg(long, default_value_t = 3.0, value_name = "SECONDS")]
+    pub silence: f64,
+    /// Samples the buffer between the reader and the filter holds (a slow consumer drops beyond it).
+    #[arg(long, default_value_t = 4096, value_name = "N")]
+    pub buffer: usize,
+}
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_sigint(_: libc::c_int) {
+    STOP.store(true, Ordering::Relaxed);
+}
+
+/// Ctrl-C (and SIGTERM) end the stream cleanly: outputs finished, summary printed.
+fn catch_interrupt() {
+    // SAFETY: the handler only stores to an atomic (async-signal-safe); the
+    // sigaction struct is fully initialised by zeroing and the fields set.
+    unsafe {
+        let mut sa: libc::sigaction = std::mem::zeroed();
+        sa.sa_sigaction = on_sigint as extern "C" fn(libc::c_int) as libc::sighandler_t;
+        libc::sigemptyset(&mut sa.sa_mask);
+        libc::sigaction(libc::SIGINT, &sa, std::ptr::null_mut());
+        libc::sigaction(libc::SIGTERM, &sa, std::ptr::null_mut());
+    }
+}
+
+/// What a person sees: each fault on stderr when it happens (a burst of one
+/// kind at most once a second, with the number held back), and the live line.
+struct Terminal {
+    view: bool,
+    last: Vec<(String, Instant, u64)>,
+}
+
+impl Terminal {
+    fn say(&mut self, key: &str, text: &str) {
+        let now = Instant::now();
+        let slot = match self.last.iter().position(|(k, _, _)| k == key) {
+            Some(i) => i,
+            None => {
+                self.last
+                    .push((key.to_string(), now - Duration::from_secs(2), 0));
+                self.last.len() - 1
+            }
+        };
+        let (_, at, held) = &mut self.last[slot];
+        if now.duration_since(*at) < Duration::from_secs(1) {
+            *held += 1;
+            return;
+        }
+        let more = std::mem::take(held);
+        *at = now;
+        match more {
+            0 => self.say_now(text),
+            n => self.say_now(&format!("{text} (and {n} more since the last report)")),
+        }
+    }
+
+    fn say_now(&self, text: &str) {
+        if self.view {
+            print!("\r\x1b[2K");
+            let _ = std::io::stdout().flush();
+        }
+        eprintln!("clino stream: {text}");
+    }
+}
+
+impl StreamObserver for Terminal {
+    fn notice(&mut self, n: &SourceNotice, _: &StreamCounts) {
+        use clino_core::protocol::Notice;
+        // the kinds that come in bursts are held to one line a second; the rest always print
+        let key = match n {
+            SourceNotice::BadFrame(e) => e.kind_name(),
+            SourceNotice::Garbage { .. } => "garbage",
+            SourceNotice::Link(Notice::Gap { .. }) => "gap",
+            SourceNotice::Link(Notice::Repeated { .. }) => "repeated",
+            SourceNotice::Link(Notice::NoConfig) => "no config",
+            _ => {
+                self.say_now(&n.to_string());
+                return;
+            }
+        };
+        self.say(key, &n.to_string());
+    }
+    fn message(&mut self, text: &str) {
+        self.say_now(text);
+    }
+    fn tick(&mut self, live: &LiveStatus) {
+        if self.view {
+            print!("\r\x1b[2K{}", live.line());
+            let _ = std::io::stdout().flush();
+        }
+    }
+}
+
+fn open_source(a: &Args) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    if let Some(port) = &a.port {
+        anyhow::ensure!(
+            a.silence > 0.0,
+            "--silence wants a positive number of seconds"
+        );
+        let opts = SerialOptions {
+            baud: a.baud,
+            silence: Duration::from_secs_f64(a.silence),
+            ..SerialOptions::default()
+        };
+        return Ok(Box::new(SerialSource::open(port, opts)?));
+    }
+    let path = a.replay.as_deref().unwrap_or(Path::new("-"));
+    let opts = clino::io::ReadOptions {
+        imu_only: a.calibration.is_none(),
+        ..a.read.options()?
+    };
+    Ok(Box::new(ReplaySource::new(
+        FileSource::open(path, &opts)?,
+        a.speed,
+    )?))
+}
+
+/// Run `clino stream`.
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let filter = super::filter_config(&a.filter, &a.gains, &a.stages)?;
+    let calibration = match &a.calibration {
+        Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
+        None => None,
+    };
+    let mut cfg = StreamConfig::new(filter);
+    cfg.calibration = calibration.as_ref();
+    cfg.capacity = a.buffer;
+    cfg.dials = a.dials;
+    let source = open_source(&a)?;
+    let mut outputs = StreamOutputs::default();
+    if a.csv {
+        outputs.csv = Some(FusedCsv::new(
+            Box::new(std::io::stdout()) as Box<dyn Write + Send>
+        )?);
+    }
+    if let Some(p) = &a.record {
+        let inputs: Vec<&Path> = a.replay.iter().map(|p| p.as_path()).collect();
+        outputs.record = Some(Recorder::create(p, &inputs)?);
+    }
+    let mut term = Terminal {
+        view: !a.csv && std::io::stdout().is_terminal(),
+        last: Vec::new(),
+    };
+    catch_interrupt();
+    eprintln!(
+        "clino stream: {} through {} (Ctrl-C ends)",
+        source.name(),
+        filter.label()
+    );
+    let result = clino::stream::run(source, &cfg, &mut outputs, &mut term, &STOP);
+    if term.view {
+        println!();
+    }
+    let recorded = outputs.record.take().map(Recorder::finish).transpose();
+    let counts = result?;
+    if let (Some(p), Some(n)) = (&a.record, recorded?) {
+        eprintln!("clino stream: {n} samples recorded to {}", p.display());
+    }
+    eprintln!("clino stream: summary");
+    for line in counts.summary() {
+        eprintln!("  {line}");
+    }
+    Ok(())
+}

@@ -1,0 +1,830 @@
+//! A live stream through the pipeline: a [`SampleSource`] read on its own
+//! thread, a bounded buffer, the one [`Pipeline`], and the outputs of
+//! `clino stream` (fused rows as `clino fuse` writes them, a recording of
+//! the raw samples, the dial angles sent back to the board).
+//!
+//! * The reader thread owns the source and sends samples into a buffer of
+//!   [`StreamConfig::capacity`] samples. A live source (a sensor) cannot
+//!   wait: when the buffer is full the sample is dropped and counted
+//!   ([`StreamCounts::dropped`]). A file or replay waits for the consumer
+//!   instead, so a replay reproduces `clino fuse` exactly.
+//! * Notices (faults, CONFIG, connection) travel on their own unbounded
+//!   channel: none is ever dropped; each is counted ([`StreamCounts::add`])
+//!   and handed to the [`StreamObserver`] once, when it happens.
+//! * Every sample goes through [`Pipeline::update`] (its rules for time
+//!   steps, dropouts and initialisation hold unchanged).
+//! * [`conformance_vector`] makes the protocol's test vector
+//!   (`firmware/protocol/frames.bin` and `frames.csv`) from a recording.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use clino_core::pipeline::{Output, Pipeline, Status, TiltOutput};
+use clino_core::protocol::{self, Frame, FrameError, Notice};
+use clino_core::{ImuSample, Vec3};
+
+use crate::fusion::{FUSE_HEADER, FilterConfig, write_attitude};
+use crate::io::source::{SampleSource, SourceEvent, SourceNotice};
+use crate::io::{AtomicFile, CsvLineWriter, ParquetRowWriter, RowSink, is_parquet};
+use crate::{Error, ErrorKind, Result};
+
+/// Columns of a recording of raw samples (what `clino fuse` reads).
+pub const RAW_HEADER: [&str; 8] = [
+    "t_s",
+    "gyr_x_rad_s",
+    "gyr_y_rad_s",
+    "gyr_z_rad_s",
+    "acc_x_m_s2",
+    "acc_y_m_s2",
+    "acc_z_m_s2",
+    "temp_c",
+];
+
+/// Write one raw sample as a [`RAW_HEADER`] row (temperature NaN when unknown).
+pub fn write_raw<S: RowSink>(out: &mut S, s: &ImuSample) -> std::io::Result<()> {
+    out.f64(s.t_s);
+    for v in s.gyr_rad_s.iter().chain(s.acc_m_s2.iter()) {
+        out.f64(*v);
+    }
+    out.f64(s.temp_c.unwrap_or(f64::NAN));
+    out.end_row()
+}
+
+enum RecordSink {
+    Csv(CsvLineWriter<AtomicFile>),
+    Parquet(ParquetRowWriter<AtomicFile>),
+}
+
+/// A recording of the raw SI samples (CSV, or Parquet by the extension),
+/// written under a temporary name ([`AtomicFile`]) and flushed once a second
+/// (for CSV every row so far is then on disk; for Parquet a row group);
+/// [`Recorder::finish`] completes and renames it.
+pub struct Recorder {
+    sink: RecordSink,
+    path: PathBuf,
+    rows: u64,
+    last_flush: Instant,
+}
+
+impl Recorder {
+    /// Start a recording at `path` (refusing to write over one of `inputs`).
+    pub fn create(path: &Path, inputs: &[&Path]) -> Result<Self> {
+        let file = AtomicFile::create(path, inputs)?;
+        let io = |e: std::io::Error| Error::from(e).in_file(path);
+        let sink = if is_parquet(path) {
+            RecordSink::Parquet(ParquetRowWriter::new(file, &RAW_HEADER, &[])?)
+        } else {
+            let mut w = CsvLineWriter::new(file);
+            w.header(&RAW_HEADER).map_err(io)?;
+            RecordSink::Csv(w)
+        };
+        Ok(Self {
+            sink,
+            path: path.to_path_buf(),
+            rows: 0,
+            last_flush: Instant::now(),
+        })
+    }
+
+    /// Append one sample.
+    pub fn push(&mut self, s: &ImuSample) -> Result<()> {
+        let r = match &mut self.sink {
+            RecordSink::Csv(w) => write_raw(w, s),
+            RecordSink::Parquet(w) => write_raw(w, s),
+        };
+        r.map_err(|e| Error::from(e).in_file(&self.path))?;
+        self.rows += 1;
+        if self.last_flush.elapsed() >= Duration::from_secs(1) {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Push what is buffered to the temporary file.
+    pub fn flush(&mut self) -> Result<()> {
+        self.last_flush = Instant::now();
+        let r = match &mut self.sink {
+            RecordSink::Csv(w) => w.flush(),
+            RecordSink::Parquet(w) => w.flush(),
+        };
+        r.map_err(|e| Error::from(e).in_file(&self.path))
+    }
+
+    /// Finish the file and rename it into place; the number of rows.
+    pub fn finish(self) -> Result<u64> {
+        let io = |e: std::io::Error| Error::from(e).in_file(&self.path);
+        let file = match self.sink {
+            RecordSink::Csv(w) => w.finish().map_err(io)?,
+            RecordSink::Parquet(w) => w.finish().map_err(io)?,
+        };
+        file.commit()?;
+        Ok(self.rows)
+    }
+}
+
+/// Fused rows with the columns of `clino fuse` ([`FUSE_HEADER`]), each
+/// flushed as soon as it is written.
+pub struct FusedCsv<W: Write> {
+    w: CsvLineWriter<W>,
+}
+
+impl<W: Write> FusedCsv<W> {
+    /// Write the header.
+    pub fn new(out: W) -> Result<Self> {
+        let mut w = CsvLineWriter::new(out);
+        w.header(&FUSE_HEADER).map_err(Error::from)?;
+        w.flush().map_err(Error::from)?;
+        Ok(Self { w })
+    }
+
+    /// One row: time, attitude (NaN before initialisation), status.
+    pub fn row(&mut self, t_s: f64, o: &Output) -> Result<()> {
+        self.w.f64(t_s);
+        write_attitude(&mut self.w, o.attitude, t_s, None);
+        self.w.str(o.status.as_str());
+        self.w.end_row().map_err(Error::from)?;
+        self.w.flush().map_err(Error::from)
+    }
+}
+
+/// The outputs of a stream (all optional).
+#[derive(Default)]
+pub struct StreamOutputs {
+    /// Fused rows (stdout in `clino stream --csv`).
+    pub csv: Option<FusedCsv<Box<dyn Write + Send>>>,
+    /// The raw samples.
+    pub record: Option<Recorder>,
+}
+
+/// How to run a stream.
+#[derive(Clone, Copy, Debug)]
+pub struct StreamConfig<'a> {
+    /// The filter and the stages around it (offline smoothing is refused:
+    /// a stream has no end to smooth back from).
+    pub filter: FilterConfig,
+    /// Calibrate every sample with this file.
+    pub calibration: Option<&'a crate::calib::CalibrationFile>,
+    /// Samples the buffer between the reader and the pipeline holds.
+    pub capacity: usize,
+    /// Send the filter's roll and pitch to the board's dials (SET_DIALS, 10 per second).
+    pub dials: bool,
+}
+
+impl StreamConfig<'_> {
+    /// A stream through this filter, buffer of 4096 samples, no dials.
+    pub fn new(filter: FilterConfig) -> Self {
+        Self {
+            filter,
+            calibration: None,
+            capacity: 4096,
+            dials: false,
+        }
+    }
+}
+
+/// Bad frames by kind, in the order of [`FrameError`]'s variants.
+pub const BAD_FRAME_KINDS: [&str; 6] = [
+    "cobs",
+    "too short",
+    "bad crc",
+    "unknown type",
+    "bad length",
+    "overlong",
+];
+
+/// What happened in a stream (the summary at exit).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StreamCounts {
+    /// Samples the source delivered (used + dropped).
+    pub received: u64,
+    /// Samples lost because the buffer was full (a slow consumer).
+    pub dropped: u64,
+    /// What the pipeline did with the samples it got.
+    pub pipeline: clino_core::pipeline::Counts,
+    /// Bad frames, by [`BAD_FRAME_KINDS`].
+    pub bad_frames: [u64; 6],
+    /// Garbage bytes discarded before good frames.
+    pub garbage_bytes: u64,
+    /// Sequence gaps (events).
+    pub gaps: u64,
+    /// Samples missing in those gaps.
+    pub missing: u64,
+    /// Repeated (or stale) frames dropped.
+    pub repeated: u64,
+    /// Board resets or restarts of the sequence.
+    pub resets: u64,
+    /// CONFIG frames.
+    pub configs: u64,
+    /// CONFIG frames that could not be used (unknown range, other version).
+    pub bad_configs: u64,
+    /// Samples dropped because no CONFIG had arrived.
+    pub no_config: u64,
+    /// Times the device went away.
+    pub disconnects: u64,
+    /// Periods without a valid frame.
+    pub silences: u64,
+    /// Commands the board refused, and frames that should not come from it.
+    pub refused: u64,
+    /// Samples whose temperature was outside the calibration's range.
+    pub temp_outside_calibration: u64,
+    /// Dial commands sent.
+    pub dials_sent: u64,
+}
+
+fn bad_index(e: &FrameError) -> usize {
+    match e {
+        FrameError::Cobs(_) => 0,
+        FrameError::TooShort { .. } => 1,
+        FrameError::BadCrc { .. } => 2,
+        FrameError::UnknownType(_) => 3,
+        FrameError::BadLength { .. } => 4,
+        FrameError::Overlong { .. } => 5,
+    }
+}
+
+impl StreamCounts {
+    /// Count one notice.
+    pub fn add(&mut self, n: &SourceNotice) {
+        match n {
+            SourceNotice::BadFrame(e) => self.bad_frames[bad_index(e)] += 1,
+            SourceNotice::Garbage { bytes } => self.garbage_bytes += *bytes as u64,
+            SourceNotice::Connected { .. } => {}
+            SourceNotice::Disconnected { .. } => self.disconnects += 1,
+            SourceNotice::Silent { .. } => self.silences += 1,
+            SourceNotice::Link(l) => match l {
+                Notice::Config(_) => self.configs += 1,
+                Notice::BadConfig(_) | Notice::Version(_) => {
+                    self.configs += 1;
+                    self.bad_configs += 1;
+                }
+                Notice::Reset { .. } => self.resets += 1,
+                Notice::Gap { missing } => {
+                    self.gaps += 1;
+                    self.missing += *missing as u64;
+                }
+                Notice::Repeated { .. } => self.repeated += 1,
+                Notice::NoConfig => self.no_config += 1,
+                Notice::Ack(a) if a.status == protocol::ack::OK => {}
+                Notice::Ack(_) | Notice::Unexpected(_) => self.refused += 1,
+            },
+        }
+    }
+
+    /// All bad frames.
+    pub fn bad_total(&self) -> u64 {
+        self.bad_frames.iter().sum()
+    }
+
+    /// The summary, one fact per line.
+    pub fn summary(&self) -> Vec<String> {
+        let p = &self.pipeline;
+        let bad: Vec<String> = BAD_FRAME_KINDS
+            .iter()
+            .zip(self.bad_frames)
+            .filter(|(_, n)| *n > 0)
+            .map(|(k, n)| format!("{n} {k}"))
+            .collect();
+        let mut v = vec![
+            format!(
+                "samples: {} received, {} through the filter, {} dropped (buffer full)",
+                self.received, p.samples, self.dropped
+            ),
+            format!(
+                "filter: {} initialised, {} fused, {} gyro only, {} waiting, {} dropouts, {} saturated",
+                p.initialised, p.fused, p.gyro_only, p.waiting, p.dropouts, p.saturated
+            ),
+            format!(
+                "frames: {} bad{}, {} garbage bytes, {} sequence gaps ({} samples missing), {} repeated",
+                self.bad_total(),
+                if bad.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", bad.join(", "))
+                },
+                self.garbage_bytes,
+                self.gaps,
+                self.missing,
+                self.repeated
+            ),
+            format!(
+                "link: {} CONFIG ({} unusable), {} resets, {} samples before a CONFIG, {} disconnections, {} silent periods, {} refused commands",
+                self.configs,
+                self.bad_configs,
+                self.resets,
+                self.no_config,
+                self.disconnects,
+                self.silences,
+                self.refused
+            ),
+        ];
+        if self.temp_outside_calibration > 0 {
+            v.push(format!(
+                "calibration: {} samples outside its temperature range",
+                self.temp_outside_calibration
+            ));
+        }
+        if self.dials_sent > 0 {
+            v.push(format!("dials: {} SET_DIALS sent", self.dials_sent));
+        }
+        v
+    }
+}
+
+/// The state of a stream, for a live view.
+#[derive(Clone, Copy, Debug)]
+pub struct LiveStatus {
+    /// Tilt of the last sample, `None` before initialisation.
+    pub tilt: Option<TiltOutput>,
+    /// Status of the last sample.
+    pub status: Option<Status>,
+    /// Sample rate over the last second (from the samples' time stamps), Hz.
+    pub rate_hz: Option<f64>,
+    /// The counts so far.
+    pub counts: StreamCounts,
+    /// Seconds since the last sample.
+    pub idle_s: f64,
+}
+
+impl LiveStatus {
+    /// One line for a terminal: roll, pitch, inclination, rate, drops, bad frames, status.
+    pub fn line(&self) -> String {
+        let deg = |x: f64| format!("{:+7.2}°", x.to_degrees());
+        let (r, p, i) = match self.tilt {
+            Some(t) => (deg(t.roll_rad), deg(t.pitch_rad), deg(t.inclination_rad)),
+            None => ("    —   ".into(), "    —   ".into(), "    —   ".into()),
+        };
+        let rate = self
+            .rate_hz
+            .map_or("  — Hz".to_string(), |h| format!("{h:6.1} Hz"));
+        let status = if self.idle_s > 1.0 {
+            format!("no samples for {:.0} s", self.idle_s)
+        } else {
+            self.status.map_or("waiting", |s| s.as_str()).to_string()
+        };
+        format!(
+            "roll {r}  pitch {p}  inclination {i}  {rate}  dropped {}  bad frames {}  gaps {}  {status}",
+            self.counts.dropped,
+            self.counts.bad_total(),
+            self.counts.gaps
+        )
+    }
+}
+
+/// What a person watching is shown: faults as they happen, and the state
+/// a few times a second.
+pub trait StreamObserver {
+    /// A notice of the source (counted already in `counts`).
+    fn notice(&mut self, n: &SourceNotice, counts: &StreamCounts);
+    /// Something else to report once (a calibration range, a refused command).
+    fn message(&mut self, text: &str);
+    /// The state, about five times a second.
+    fn tick(&mut self, live: &LiveStatus);
+}
+
+/// The dial angles of a tilt, centidegrees clamped to ±90°.
+pub fn dial_frame(t: &TiltOutput) -> Frame {
+    let cdeg = |r: f64| (r.to_degrees() * 100.0).round().clamp(-9000.0, 9000.0) as i16;
+    Frame::SetDials {
+        roll_cdeg: cdeg(t.roll_rad),
+        pitch_cdeg: cdeg(t.pitch_rad),
+    }
+}
+
+/// The consumer's side of a run.
+struct Consumer<'a, 'o> {
+    pipeline: Pipeline,
+    cfg: &'a StreamConfig<'a>,
+    outputs: &'o mut StreamOutputs,
+    counts: StreamCounts,
+    last: Option<Output>,
+    window: (Option<f64>, f64, u64),
+    rate_hz: Option<f64>,
+    last_sample: Instant,
+    temp_reported: bool,
+}
+
+impl Consumer<'_, '_> {
+    fn sample(&mut self, s: &ImuSample, obs: &mut dyn StreamObserver) -> Result<()> {
+        self.last_sample = Instant::now();
+        if let Some(cal) = self.cfg.calibration
+            && cal.check_temp(s.temp_c).is_err()
+        {
+            self.counts.temp_outside_calibration += 1;
+            if !self.temp_reported {
+                self.temp_reported = true;
+                if let Err(e) = cal.check_temp(s.temp_c) {
+                    obs.message(&format!("calibration: {e} (reported once, counted)"));
+                }
+            }
+        }
+        let o = self.pipeline.update(s);
+        self.counts.pipeline.record(o.status);
+        if let Some(csv) = self.outputs.csv.as_mut() {
+            csv.row(s.t_s, &o)?;
+        }
+        if let Some(r) = self.outputs.record.as_mut() {
+            r.push(s)?;
+        }
+        self.last = Some(o);
+        // sample rate from the time stamps over about a second
+        let (t0, t1, n) = &mut self.window;
+        let first = *t0.get_or_insert(s.t_s);
+        *t1 = s.t_s;
+        *n += 1;
+        if *t1 - first >= 1.0 {
+            self.rate_hz = Some((*n - 1) as f64 / (*t1 - first));
+            self.window = (Some(s.t_s), s.t_s, 1);
+        }
+        Ok(())
+    }
+
+    fn live(&self) -> LiveStatus {
+        LiveStatus {
+            tilt: self.last.and_then(|o| o.tilt()),
+            status: self.last.map(|o| o.status),
+            rate_hz: self.rate_hz,
+            counts: self.counts,
+            idle_s: self.last_sample.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+/// Run `source` through the pipeline into `outputs` until the source ends,
+/// `stop` is set (Ctrl-C) or an error; the counts. The outputs are left for
+/// the caller to finish (a recording is complete only after
+/// [`Recorder::finish`]).
+pub fn run(
+    source: Box<dyn SampleSource + Send>,
+    cfg: &StreamConfig,
+    outputs: &mut StreamOutputs,
+    observer: &mut dyn StreamObserver,
+    stop: &AtomicBool,
+) -> Result<StreamCounts> {
+    if cfg.filter.offline {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "offline smoothing needs the whole recording: record the stream (--record) and run `clino fuse --offline` on it",
+        ));
+    }
+    let mut pipeline = cfg.filter.pipeline()?;
+    if let Some(cal) = cfg.calibration {
+        pipeline = pipeline.with_calibration(Some(cal.calibration()));
+    }
+    let mut c = Consumer {
+        pipeline,
+        cfg,
+        outputs,
+        counts: StreamCounts::default(),
+        last: None,
+        window: (None, 0.0, 0),
+        rate_hz: None,
+        last_sample: Instant::now(),
+        temp_reported: false,
+    };
+    let (stx, srx) = mpsc::sync_channel::<ImuSample>(cfg.capacity.max(1));
+    let (ntx, nrx) = mpsc::channel::<SourceNotice>();
+    let (ctx, crx) = mpsc::channel::<Frame>();
+    let dropped = AtomicU64::new(0);
+    let done = AtomicBool::new(false);
+    let result = std::thread::scope(|scope| {
+        let reader = scope.spawn(|| read_loop(source, stx, ntx, crx, &dropped, &done, stop));
+        let consumed = consume(&mut c, &srx, &nrx, &ctx, observer, stop, &dropped);
+        done.store(true, Ordering::Relaxed);
+        drop(srx); // a reader waiting on a full buffer gives up
+        let read = reader
+            .join()
+            .unwrap_or_else(|_| Err(Error::new(ErrorKind::Io, "the reader thread failed")));
+        consumed.and(read)
+    });
+    while let Ok(n) = nrx.try_recv() {
+        c.counts.add(&n);
+        observer.notice(&n, &c.counts);
+    }
+    c.counts.dropped = dropped.load(Ordering::Relaxed);
+    c.counts.received = c.counts.pipeline.samples + c.counts.dropped;
+    observer.tick(&c.live());
+    result.map(|()| c.counts)
+}
+
+fn read_loop(
+    mut source: Box<dyn SampleSource + Send>,
+    stx: mpsc::SyncSender<ImuSample>,
+    ntx: mpsc::Sender<SourceNotice>,
+    crx: mpsc::Receiver<Frame>,
+    dropped: &AtomicU64,
+    done: &AtomicBool,
+    stop: &AtomicBool,
+) -> Result<()> {
+    let live = source.is_live();
+    let mut emit = |ev: SourceEvent| match ev {
+        SourceEvent::Sample(s) if live => match stx.try_send(s) {
+            Ok(()) => {}
+            Err(mpsc::TrySendError::Full(_)) => {
+                dropped.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(mpsc::TrySendError::Disconnected(_)) => {}
+        },
+        SourceEvent::Sample(s) => {
+            let _ = stx.send(s);
+        }
+        SourceEvent::Notice(n) => {
+            let _ = ntx.send(n);
+        }
+    };
+    while !done.load(Ordering::Relaxed) && !stop.load(Ordering::Relaxed) {
+        while let Ok(cmd) = crx.try_recv() {
+            source.send(&cmd)?;
+        }
+        if !source.poll(&mut emit)? {
+            break;
+        }
+    }
+    Ok(())
+}
+
+fn consume(
+    c: &mut Consumer,
+    srx: &mpsc::Receiver<ImuSample>,
+    nrx: &mpsc::Receiver<SourceNotice>,
+    ctx: &mpsc::Sender<Frame>,
+    obs: &mut dyn StreamObserver,
+    stop: &AtomicBool,
+    dropped: &AtomicU64,
+) -> Result<()> {
+    let (mut last_tick, mut last_dials) = (Instant::now(), Instant::now());
+    loop {
+        match srx.recv_timeout(Duration::from_millis(50)) {
+            Ok(s) => {
+                c.sample(&s, obs)?;
+                for _ in 0..1024 {
+                    match srx.try_recv() {
+                        Ok(s) => c.sample(&s, obs)?,
+                        Err(_) => break,
+                    }
+                }
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => return Ok(()),
+        }
+        while let Ok(n) = nrx.try_recv() {
+            c.counts.add(&n);
+            obs.notice(&n, &c.counts);
+        }
+        if stop.load(Ordering::Relaxed) {
+            return Ok(());
+        }
+        if last_tick.elapsed() >= Duration::from_millis(200) {
+            last_tick = Instant::now();
+            c.counts.dropped = dropped.load(Ordering::Relaxed);
+            c.counts.received = c.counts.pipeline.samples + c.counts.dropped;
+            obs.tick(&c.live());
+        }
+        if c.cfg.dials
+            && last_dials.elapsed() >= Duration::from_millis(100)
+            && let Some(t) = c.last.and_then(|o| o.tilt())
+        {
+            last_dials = Instant::now();
+            if ctx.send(dial_frame(&t)).is_ok() {
+                c.counts.dials_sent += 1;
+            }
+        }
+    }
+}
+
+/// The protocol's conformance vector from a recording: one CONFIG (`config`)
+/// then one SAMPLE per row, the rows quantised to MPU6050 counts at the
+/// CONFIG's ranges (rounded to nearest, saturating); board time
+/// `t_us = t0_us + round((t_s − t_s,first) · 10⁶)` modulo 2³², sequence from
+/// 0; temperature counts from `temp_c` (25 °C when absent). Returns the wire
+/// bytes and the same samples decoded ([`RAW_HEADER`] CSV, exact digits),
+/// decoded by the crate's own [`protocol::Decoder`] and [`protocol::Link`].
+pub fn conformance_vector(
+    samples: &[ImuSample],
+    config: &protocol::Config,
+    t0_us: u32,
+) -> Result<(Vec<u8>, String)> {
+    let scales = config
+        .scales()
+        .map_err(|e| Error::new(ErrorKind::InvalidInput, format!("conformance vector: {e}")))?;
+    let mut wire = Vec::new();
+    let mut buf = [0u8; protocol::MAX_FRAME];
+    let mut put = |f: &Frame, wire: &mut Vec<u8>| {
+        let n = protocol::encode(f, &mut buf).unwrap_or(0);
+        wire.extend_from_slice(&buf[..n]);
+    };
+    put(&Frame::Config(*config), &mut wire);
+    let t_first = samples.first().map_or(0.0, |s| s.t_s);
+    for (k, s) in samples.iter().enumerate() {
+        let dt_us = ((s.t_s - t_first) * 1e6).round() as u64;
+        let temp = s.temp_c.unwrap_or(25.0);
+        let q = |v: &Vec3, f: &dyn Fn(f64) -> i16| [f(v.x), f(v.y), f(v.z)];
+        let frame = Frame::Sample(protocol::Sample {
+            seq: k as u16,
+            t_us: t0_us.wrapping_add(dt_us as u32),
+            acc: q(&s.acc_m_s2, &|x| scales.acc_counts(x)),
+            temp: ((temp - 36.53) * 340.0).round().clamp(-32768.0, 32767.0) as i16,
+            gyr: q(&s.gyr_rad_s, &|x| scales.gyr_counts(x)),
+        });
+        put(&frame, &mut wire);
+    }
+    let mut out = CsvLineWriter::new(Vec::new());
+    out.header(&RAW_HEADER).map_err(Error::from)?;
+    let mut dec = protocol::Decoder::new();
+    let mut link = protocol::Link::new();
+    let mut fail = None;
+    dec.feed(&wire, |d| match d.result {
+        Ok(f) => {
+            if let Some((_, s)) = link.push(&f).sample
+                && let Err(e) = write_raw(&mut out, &s)
+            {
+                fail = Some(e);
+            }
+        }
+        Err(e) => fail = Some(std::io::Error::other(e.to_string())),
+    });
+    if let Some(e) = fail {
+        return Err(Error::from(e));
+    }
+    let text = String::from_utf8(out.finish().map_err(Error::from)?).unwrap_or_default();
+    Ok((wire, text))
+}
+
+/// Rows of the embedded BROAD excerpt in the conformance vector.
+pub const VECTOR_ROWS: usize = 2000;
+
+/// Board time of the vector's first sample, µs: 3.5 s before the 32-bit
+/// clock wraps (a board up for 71.5 minutes), so the vector crosses the wrap.
+pub const VECTOR_T0_US: u32 = u32::MAX - 3_499_999;
+
+/// The CONFIG of the conformance vector: protocol 1, firmware 0.1.0, the
+/// host simulator (board 3), 286 Hz (the recording's 285.7 Hz), ±8 g,
+/// ±1000 °/s, DLPF_CFG 3, streaming.
+pub const VECTOR_CONFIG: protocol::Config = protocol::Config {
+    proto_version: protocol::PROTO_VERSION,
+    firmware: [0, 1, 0],
+    board: 3,
+    rate_hz: 286,
+    accel_fs_g: 8,
+    gyro_fs_dps: 1000,
+    dlpf_cfg: 3,
+    streaming: 1,
+};
+
+/// `firmware/protocol/frames.bin` and `frames.csv`: the first
+/// [`VECTOR_ROWS`] rows of the embedded BROAD excerpt
+/// ([`crate::demo::BROAD_EXCERPT`], trial 07, fast rotations) through
+/// [`conformance_vector`] with [`VECTOR_CONFIG`] and [`VECTOR_T0_US`]
+/// (temperature 25 °C). The gyro's x axis exceeds ±1000 °/s in places and
+/// is clipped at the i16 limits there, as the chip would.
+pub fn reference_vector() -> Result<(Vec<u8>, String)> {
+    let mut r = crate::io::ImuCsvReader::new(
+        crate::demo::BROAD_EXCERPT.as_bytes(),
+        "broad_07_excerpt.csv",
+        &crate::io::ReadOptions {
+            imu_only: true,
+            ..Default::default()
+        },
+    )?;
+    let mut samples = Vec::with_capacity(VECTOR_ROWS);
+    while samples.len() < VECTOR_ROWS
+        && let Some(row) = r.next_row()?
+    {
+        samples.push(row.sample);
+    }
+    conformance_vector(&samples, &VECTOR_CONFIG, VECTOR_T0_US)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fusion::FilterKind;
+
+    /// A live source that makes `n` samples as fast as it can.
+    struct Burst {
+        n: u64,
+        k: u64,
+    }
+    impl SampleSource for Burst {
+        fn poll(&mut self, emit: &mut dyn FnMut(SourceEvent)) -> Result<bool> {
+            for _ in 0..64 {
+                if self.k == self.n {
+                    return Ok(false);
+                }
+                let t = self.k as f64 * 0.01;
+                emit(SourceEvent::Sample(ImuSample::new(
+                    t,
+                    Vec3::zeros(),
+                    Vec3::new(0.0, 0.0, 9.81),
+                )));
+                self.k += 1;
+            }
+            Ok(true)
+        }
+        fn name(&self) -> &str {
+            "burst"
+        }
+    }
+
+    /// An observer that is slow to take each tick and notice.
+    struct Slow(u32);
+    impl StreamObserver for Slow {
+        fn notice(&mut self, _: &SourceNotice, _: &StreamCounts) {}
+        fn message(&mut self, _: &str) {}
+        fn tick(&mut self, _: &LiveStatus) {
+            self.0 += 1;
+        }
+    }
+
+    #[test]
+    fn a_slow_consumer_loses_samples_and_counts_every_one() {
+        // a recording sink that takes 1 ms per row: far slower than the burst
+        struct Sleepy;
+        impl Write for Sleepy {
+            fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+                std::thread::sleep(Duration::from_millis(1));
+                Ok(b.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let mut cfg = StreamConfig::new(FilterConfig::new(FilterKind::Mahony));
+        cfg.capacity = 8;
+        let mut outputs = StreamOutputs {
+            csv: Some(FusedCsv::new(Box::new(Sleepy) as Box<dyn Write + Send>).unwrap()),
+            record: None,
+        };
+        let stop = AtomicBool::new(false);
+        let n = 20_000;
+        let counts = run(
+            Box::new(Burst { n, k: 0 }),
+            &cfg,
+            &mut outputs,
+            &mut Slow(0),
+            &stop,
+        )
+        .unwrap();
+        assert_eq!(counts.received, n);
+        assert!(counts.dropped > 0, "{counts:?}");
+        assert_eq!(counts.pipeline.samples + counts.dropped, n);
+        // a live source without a buffer limit problem loses nothing
+        cfg.capacity = 100_000;
+        let counts = run(
+            Box::new(Burst { n, k: 0 }),
+            &cfg,
+            &mut StreamOutputs::default(),
+            &mut Slow(0),
+            &stop,
+        )
+        .unwrap();
+        assert_eq!((counts.dropped, counts.pipeline.samples), (0, n));
+    }
+
+    #[test]
+    fn the_vector_decodes_to_its_quantised_samples() {
+        let cfg = protocol::Config {
+            proto_version: 1,
+            firmware: [0, 1, 0],
+            board: 3,
+            rate_hz: 100,
+            accel_fs_g: 8,
+            gyro_fs_dps: 1000,
+            dlpf_cfg: 3,
+            streaming: 1,
+        };
+        let s: Vec<ImuSample> = (0..5)
+            .map(|k| {
+                ImuSample::new(
+                    k as f64 * 0.01,
+                    Vec3::new(0.1, -0.2, 20.0), // 20 rad/s saturates ±1000 °/s
+                    Vec3::new(0.0, 1.0, 9.8),
+                )
+            })
+            .collect();
+        let (wire, csv) = conformance_vector(&s, &cfg, u32::MAX - 15_000).unwrap();
+        assert_eq!(wire.len(), 17 + 5 * 25);
+        let rows: Vec<Vec<f64>> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 5);
+        // time unwrapped across 2^32 µs
+        assert_eq!(
+            rows[2][0],
+            (u32::MAX as u64 - 15_000 + 20_000) as f64 * 1e-6
+        );
+        let sc = cfg.scales().unwrap();
+        assert_eq!(rows[0][3], sc.gyr_rad_s(i16::MAX));
+        assert!((rows[0][1] - 0.1).abs() < 0.5 / 32.8 * 0.0175);
+        assert!((rows[0][6] - 9.8).abs() <= 0.5 / 4096.0 * protocol_g());
+        assert!((rows[0][7] - 25.0).abs() < 0.5 / 340.0 + 1e-12);
+    }
+
+    fn protocol_g() -> f64 {
+        clino_core::G0
+    }
+}
