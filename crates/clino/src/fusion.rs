@@ -555,21 +555,16 @@ pub fn fuse_into<R: Read, S: RowSink>(
             rows.push((row.line, row.sample.t_s));
             samples.push(s);
         }
-        let qs = config.smooth_samples(&samples)?;
-        for (((line, t), s), q) in rows.iter().zip(&samples).zip(&qs) {
-            let status = match (clino_core::pipeline::admission(s), q) {
-                (Some(st), _) => st,
-                (None, None) => Status::Waiting,
-                (None, Some(_)) => Status::Fused,
-            };
-            report.add(status, *line);
+        let outs = offline_outputs(config, &samples)?;
+        for ((line, t), o) in rows.iter().zip(&outs) {
+            report.add(o.status, *line);
             let row = ImuRow {
                 line: *line,
                 sample: ImuSample::new(*t, Vec3::zeros(), Vec3::zeros()),
                 ref_q: None,
                 movement: None,
             };
-            emit(out, &row, *q, status).map_err(io_err)?;
+            emit(out, &row, o.attitude, o.status).map_err(io_err)?;
         }
         return Ok(report);
     }
@@ -583,6 +578,31 @@ pub fn fuse_into<R: Read, S: RowSink>(
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     Ok(report)
+}
+
+/// The outputs of the offline stage over a whole recording of (already
+/// calibrated) samples: the attitudes of [`FilterConfig::smooth_samples`]
+/// with the pipeline's statuses — `dropout` or `saturated` where
+/// [`clino_core::pipeline::admission`] refuses the sample (the attitude
+/// held), `waiting` before the first usable one, `fused` elsewhere. The one
+/// rule for files ([`fuse`]) and arrays ([`crate::batch::fuse_arrays`]).
+pub fn offline_outputs(config: &FilterConfig, samples: &[ImuSample]) -> Result<Vec<Output>> {
+    let qs = config.smooth_samples(samples)?;
+    Ok(samples
+        .iter()
+        .zip(qs)
+        .map(|(s, q)| {
+            let status = match (clino_core::pipeline::admission(s), q) {
+                (Some(st), _) => st,
+                (None, None) => Status::Waiting,
+                (None, Some(_)) => Status::Fused,
+            };
+            Output {
+                status,
+                attitude: q,
+            }
+        })
+        .collect())
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.

@@ -31,7 +31,7 @@ mod table;
 
 pub use atomic::AtomicFile;
 pub use convert::convert;
-pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions};
+pub use csv_in::{AccelUnit, GyroUnit, ImuCsvReader, ImuRow, ReadOptions, row_time};
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
 pub use table::TableReader;
