@@ -23,14 +23,15 @@ py="$venv/bin/python"
 "$py" -m pip install -q --upgrade pip
 "$py" -m pip install -q maturin numpy pandas pytest dask distributed fsspec
 
-say "pip install ./crates/clino-py (release build of the extension)"
-# one target directory across runs, beside the workspace's (never cleaned here)
-export CARGO_TARGET_DIR="$root/target/py"
-"$py" -m pip install -q ./crates/clino-py
-
-say "the clino binary the tests compare with"
+say "the clino binary the tests compare with (release; reused by the extension's build)"
 cargo build -q --release -p clino-cli
 export CLINO_BIN="$root/target/release/clino"
+
+say "pip install ./crates/clino-py (release build of the extension)"
+# the workspace's target directory and release profile: the dependencies the
+# release build of the CLI made (earlier in .ci/run, or below) are reused
+export CARGO_TARGET_DIR="$root/target"
+"$py" -m pip install -q ./crates/clino-py
 
 BROAD="${CLINO_BROAD_DIR:-$root/../shared/data/broad}"
 if [ -d "$BROAD" ]; then

@@ -23,7 +23,10 @@ use clino::fusion::{
 use clino::io::{
     AtomicFile, CsvLineWriter, ImuCsvReader, ParquetRowWriter, ReadOptions, RowSink, TableReader,
 };
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyString};
@@ -75,9 +78,9 @@ fn strided<'a>(a: &'a PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<Strided
     }
     let n = sh[0];
     let c = a.is_c_contiguous();
-    let s = a.as_slice().map_err(|_| {
-        PyValueError::new_err(format!("{name} must be C- or Fortran-contiguous"))
-    })?;
+    let s = a
+        .as_slice()
+        .map_err(|_| PyValueError::new_err(format!("{name} must be C- or Fortran-contiguous")))?;
     Ok(if c || n <= 1 {
         Strided::rows(s, n)
     } else {
@@ -98,7 +101,10 @@ fn config(
     offline: bool,
 ) -> clino::Result<FilterConfig> {
     let mut spec = [parse_spec(filter)?];
-    let p: Vec<(&str, String)> = params.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+    let p: Vec<(&str, String)> = params
+        .iter()
+        .map(|(k, v)| (k.as_str(), v.clone()))
+        .collect();
     apply_params(&mut spec, &p)?;
     let c = FilterConfig::from_spec(spec[0])
         .with_lever_arm(lever_arm.map(Vec3::from))
@@ -163,7 +169,13 @@ type Fused<'py> = (
     Bound<'py, PyArray1<u8>>,
 );
 
-fn to_arrays<'py>(py: Python<'py>, q: Vec<f64>, d: Vec<f64>, st: Vec<u8>, tilt: bool) -> PyResult<Fused<'py>> {
+fn to_arrays<'py>(
+    py: Python<'py>,
+    q: Vec<f64>,
+    d: Vec<f64>,
+    st: Vec<u8>,
+    tilt: bool,
+) -> PyResult<Fused<'py>> {
     let n = st.len();
     let q = q.into_pyarray(py).reshape([n, 4])?;
     let d = if tilt {
@@ -202,7 +214,12 @@ fn fuse<'py>(
     params: Vec<(String, String)>,
     temp_c: Option<PyReadonlyArray1<'py, f64>>,
     tilt: bool,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Option<Bound<'py, PyArray2<f64>>>, Bound<'py, PyArray1<u8>>, String)> {
+) -> PyResult<(
+    Bound<'py, PyArray2<f64>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Bound<'py, PyArray1<u8>>,
+    String,
+)> {
     let cfg = config(filter, &params, lever_arm, offline).py(py)?;
     let g = strided(&gyr, "gyr")?;
     let a = strided(&acc, "acc")?;
@@ -211,7 +228,7 @@ fn fuse<'py>(
     let mut arrays = ImuArrays::new(ts, rate, g, a);
     arrays.temp_c = tc;
     let cal = calibration.as_ref().map(|c| c.file.clone());
-    let res = py.detach(|| {
+    let res = py.detach(|| -> clino::Result<_> {
         let mut outs = empty_outputs(arrays.len());
         let rep = batch::fuse_arrays(&arrays, &cfg, cal.as_ref(), &mut outs)?;
         let (q, d, st) = unpack(&outs, tilt);
@@ -247,7 +264,7 @@ impl PyPipeline {
         arrays.first_row = self.rows;
         arrays.prev_t_s = self.last_t;
         let p = &mut self.pipeline;
-        let res = py.detach(|| {
+        let res = py.detach(|| -> clino::Result<_> {
             let mut outs = empty_outputs(arrays.len());
             batch::run_arrays(p, &arrays, &mut outs)?;
             Ok(unpack(&outs, tilt))
@@ -397,9 +414,12 @@ fn evaluate(
     g: f64,
 ) -> PyResult<String> {
     let opts = read_options(gyro_unit, accel_unit, rate, g).py(py)?;
-    let res = py.detach(|| {
+    let res = py.detach(|| -> clino::Result<_> {
         let mut specs: Vec<FilterSpec> = parse_spec_list(filter)?;
-        let p: Vec<(&str, String)> = params.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+        let p: Vec<(&str, String)> = params
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.clone()))
+            .collect();
         apply_params(&mut specs, &p)?;
         let configs = eval::eval_configs(&specs, lever_arm.map(Vec3::from), offline)?;
         eval::evaluate(&paths, &configs, &opts, jobs, |_, _, _| {})
@@ -428,7 +448,8 @@ fn quat_slice<'a>(a: &'a PyReadonlyArray2<'_, f64>, name: &str) -> PyResult<&'a 
             "{name} must be a C-contiguous (N, 4) array of w, x, y, z"
         )));
     }
-    a.as_slice().map_err(|_| PyValueError::new_err(format!("{name} must be contiguous")))
+    a.as_slice()
+        .map_err(|_| PyValueError::new_err(format!("{name} must be contiguous")))
 }
 
 /// BROAD scoring of estimates against a reference: (rmse_deg, scored, non_finite).
@@ -444,7 +465,9 @@ fn score(
     let m = slice(&movement, "movement")?;
     let n = m.len();
     if e.len() != 4 * n || r.len() != 4 * n {
-        return Err(PyValueError::new_err("estimate, reference and movement differ in length"));
+        return Err(PyValueError::new_err(
+            "estimate, reference and movement differ in length",
+        ));
     }
     Ok(py.detach(|| {
         let est = attitude_rows(e, n, false);
@@ -468,7 +491,9 @@ fn inclination_error<'py>(
     let e = quat_slice(&estimate, "estimate")?;
     let r = quat_slice(&reference, "reference")?;
     if e.len() != r.len() {
-        return Err(PyValueError::new_err("estimate and reference differ in length"));
+        return Err(PyValueError::new_err(
+            "estimate and reference differ in length",
+        ));
     }
     let n = e.len() / 4;
     let v = py.detach(|| {
@@ -500,11 +525,19 @@ fn read_imu(
     g: f64,
 ) -> PyResult<Vec<(String, Py<PyAny>)>> {
     let opts = read_options(gyro_unit, accel_unit, rate, g).py(py)?;
-    let res: clino::Result<Columns> = py.detach(|| {
+    let res = py.detach(|| -> clino::Result<Columns> {
         let mut r = ImuCsvReader::from_path(&path, &opts)?;
         let (has_ref, has_mv) = (r.has_reference(), r.has_movement());
-        let (mut t, mut gy, mut ac, mut mag, mut temp, mut rq, mut mv, mut line) =
-            (vec![], vec![], vec![], vec![], vec![], vec![], vec![], vec![]);
+        let (mut t, mut gy, mut ac, mut mag, mut temp, mut rq, mut mv, mut line) = (
+            vec![],
+            vec![],
+            vec![],
+            vec![],
+            vec![],
+            vec![],
+            vec![],
+            vec![],
+        );
         let (mut has_mag, mut has_temp) = (false, false);
         while let Some(row) = r.next_row()? {
             let s = &row.sample;
@@ -576,8 +609,12 @@ enum Col {
 /// `text_columns` are kept as strings, every other cell must be a number.
 #[pyfunction]
 #[pyo3(signature = (path, text_columns=vec!["status".to_string()]))]
-fn read_table(py: Python<'_>, path: PathBuf, text_columns: Vec<String>) -> PyResult<Vec<(String, Py<PyAny>)>> {
-    let res: clino::Result<(Vec<String>, Vec<Col>)> = py.detach(|| {
+fn read_table(
+    py: Python<'_>,
+    path: PathBuf,
+    text_columns: Vec<String>,
+) -> PyResult<Vec<(String, Py<PyAny>)>> {
+    let res = py.detach(|| -> clino::Result<(Vec<String>, Vec<Col>)> {
         let mut tb = TableReader::open(&path)?;
         let names = tb.header().to_vec();
         let is_text: Vec<bool> = names
@@ -586,7 +623,13 @@ fn read_table(py: Python<'_>, path: PathBuf, text_columns: Vec<String>) -> PyRes
             .collect();
         let mut cols: Vec<Col> = is_text
             .iter()
-            .map(|&t| if t { Col::Text(vec![]) } else { Col::Num(vec![]) })
+            .map(|&t| {
+                if t {
+                    Col::Text(vec![])
+                } else {
+                    Col::Num(vec![])
+                }
+            })
             .collect();
         while tb.next_record()? {
             for (i, c) in cols.iter_mut().enumerate() {
@@ -613,9 +656,16 @@ fn read_table(py: Python<'_>, path: PathBuf, text_columns: Vec<String>) -> PyRes
 /// Write a table (CSV, or Parquet by the `.parquet` extension), atomically:
 /// columns are float64 arrays or lists of strings, all of one length.
 #[pyfunction]
-fn write_table(py: Python<'_>, path: PathBuf, names: Vec<String>, columns: Vec<Bound<'_, PyAny>>) -> PyResult<u64> {
+fn write_table(
+    py: Python<'_>,
+    path: PathBuf,
+    names: Vec<String>,
+    columns: Vec<Bound<'_, PyAny>>,
+) -> PyResult<u64> {
     if names.len() != columns.len() || names.is_empty() {
-        return Err(PyValueError::new_err("one name per column, at least one column"));
+        return Err(PyValueError::new_err(
+            "one name per column, at least one column",
+        ));
     }
     let mut cols: Vec<Col> = Vec::new();
     for (n, c) in names.iter().zip(&columns) {
@@ -687,10 +737,10 @@ impl Read for PyStream {
             let b = self
                 .obj
                 .call_method1(py, "read", (buf.len(),))
-                .map_err(|e| std::io::Error::other(e.to_string()))?;
-            let bytes: &[u8] = b
+                .map_err(|e: PyErr| std::io::Error::other(e.to_string()))?;
+            let bytes: Vec<u8> = b
                 .extract(py)
-                .map_err(|e| std::io::Error::other(e.to_string()))?;
+                .map_err(|e: PyErr| std::io::Error::other(e.to_string()))?;
             let n = bytes.len().min(buf.len());
             buf[..n].copy_from_slice(&bytes[..n]);
             Ok(n)
@@ -731,7 +781,7 @@ fn summarize(
     };
     let res = if source.is_instance_of::<PyString>() || source.hasattr("__fspath__")? {
         let path: PathBuf = source.extract()?;
-        py.detach(|| {
+        py.detach(|| -> clino::Result<_> {
             let mut r = ImuCsvReader::from_path(&path, &opts)?;
             batch::summarize_reader(&mut r, &cfg, &fopts)
         })
@@ -740,7 +790,7 @@ fn summarize(
             obj: source.clone().unbind(),
         };
         let name = name.unwrap_or_else(|| "<stream>".into());
-        py.detach(|| {
+        py.detach(|| -> clino::Result<_> {
             let mut r = ImuCsvReader::new(stream, name, &opts)?;
             batch::summarize_reader(&mut r, &cfg, &fopts)
         })
@@ -809,7 +859,11 @@ impl PyCalibration {
         acc: PyReadonlyArray2<'py, f64>,
         mag: Option<PyReadonlyArray2<'py, f64>>,
         temp_c: Option<PyReadonlyArray1<'py, f64>>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Option<Bound<'py, PyArray2<f64>>>)> {
+    ) -> PyResult<(
+        Bound<'py, PyArray2<f64>>,
+        Bound<'py, PyArray2<f64>>,
+        Option<Bound<'py, PyArray2<f64>>>,
+    )> {
         let g = strided(&gyr, "gyr")?;
         let a = strided(&acc, "acc")?;
         let m = mag.as_ref().map(|m| strided(m, "mag")).transpose()?;
@@ -843,7 +897,11 @@ impl PyCalibration {
         } else {
             None
         };
-        Ok((go.into_pyarray(py).reshape([n, 3])?, ao.into_pyarray(py).reshape([n, 3])?, mo))
+        Ok((
+            go.into_pyarray(py).reshape([n, 3])?,
+            ao.into_pyarray(py).reshape([n, 3])?,
+            mo,
+        ))
     }
 }
 
@@ -868,7 +926,11 @@ fn calibrate(
         "accel" => TriadKind::Accel,
         "gyro" => TriadKind::Gyro,
         "mag" => TriadKind::Mag,
-        k => return Err(PyValueError::new_err(format!("unknown triad '{k}' (accel, gyro or mag)"))),
+        k => {
+            return Err(PyValueError::new_err(format!(
+                "unknown triad '{k}' (accel, gyro or mag)"
+            )));
+        }
     };
     let accel = accel_calibration.and_then(|c| c.file.accel.as_ref().map(|e| e.calibration()));
     let res = py.detach(|| -> clino::Result<(serde_json::Value, calib::TriadEntry)> {
@@ -954,9 +1016,14 @@ fn calibrate(
 /// `clino survey` (JSON of the report).
 #[pyfunction]
 #[pyo3(signature = (path, declination_deg=0.0, calibration=None))]
-fn survey(py: Python<'_>, path: PathBuf, declination_deg: f64, calibration: Option<PyRef<'_, PyCalibration>>) -> PyResult<String> {
+fn survey(
+    py: Python<'_>,
+    path: PathBuf,
+    declination_deg: f64,
+    calibration: Option<PyRef<'_, PyCalibration>>,
+) -> PyResult<String> {
     let cal = calibration.map(|c| c.file.clone());
-    let res = py.detach(|| {
+    let res = py.detach(|| -> clino::Result<_> {
         let mut readings = clino::survey::read_stations(&path)?;
         if let Some(c) = &cal {
             clino::survey::calibrate_readings(&mut readings, c).map_err(|e| e.in_file(&path))?;
@@ -968,7 +1035,13 @@ fn survey(py: Python<'_>, path: PathBuf, declination_deg: f64, calibration: Opti
                 ..Default::default()
             },
         )
-        .map_err(|e| if e.file.is_none() { e.in_file(&path) } else { e })
+        .map_err(|e| {
+            if e.file.is_none() {
+                e.in_file(&path)
+            } else {
+                e
+            }
+        })
     });
     json(&res.py(py)?)
 }
@@ -981,7 +1054,11 @@ fn minimum_curvature(
     inclination_deg: PyReadonlyArray1<'_, f64>,
     azimuth_deg: PyReadonlyArray1<'_, f64>,
 ) -> PyResult<String> {
-    let (m, i, a) = (slice(&md_m, "md_m")?, slice(&inclination_deg, "inclination_deg")?, slice(&azimuth_deg, "azimuth_deg")?);
+    let (m, i, a) = (
+        slice(&md_m, "md_m")?,
+        slice(&inclination_deg, "inclination_deg")?,
+        slice(&azimuth_deg, "azimuth_deg")?,
+    );
     json(&clino::survey::minimum_curvature(m, i, a).py(py)?)
 }
 
@@ -1016,9 +1093,15 @@ fn sine_fit(
         ("phase_rad".into(), num(f.phase_rad)),
         ("a".into(), num(f.a)),
         ("b".into(), num(f.b)),
-        ("trend".into(), f.trend.clone().into_pyarray(py).into_any().unbind()),
+        (
+            "trend".into(),
+            f.trend.clone().into_pyarray(py).into_any().unbind(),
+        ),
         ("rms_residual".into(), num(f.rms_residual)),
-        ("iterations".into(), f.iterations.into_pyobject(py)?.into_any().unbind()),
+        (
+            "iterations".into(),
+            f.iterations.into_pyobject(py)?.into_any().unbind(),
+        ),
     ])
 }
 
@@ -1032,25 +1115,50 @@ fn simulate_static<'py>(
     rate_hz: f64,
     duration_s: f64,
     seed: u64,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+) -> PyResult<(
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+)> {
     let m = clino::sim::ImuModel::preset(preset).py(py)?;
     m.validate().py(py)?;
     if !(rate_hz.is_finite() && rate_hz > 0.0 && duration_s.is_finite() && duration_s >= 0.0) {
-        return Err(PyValueError::new_err("rate_hz must be positive and duration_s non-negative"));
+        return Err(PyValueError::new_err(
+            "rate_hz must be positive and duration_s non-negative",
+        ));
     }
-    let s = py.detach(|| m.simulate(&clino::sim::motion::Static::level(), rate_hz, duration_s, seed));
+    let s = py.detach(|| {
+        m.simulate(
+            &clino::sim::motion::Static::level(),
+            rate_hz,
+            duration_s,
+            seed,
+        )
+    });
     let n = s.len();
     let t: Vec<f64> = s.iter().map(|x| x.t_s).collect();
-    let g: Vec<f64> = s.iter().flat_map(|x| x.gyr_rad_s.iter().copied().collect::<Vec<_>>()).collect();
-    let a: Vec<f64> = s.iter().flat_map(|x| x.acc_m_s2.iter().copied().collect::<Vec<_>>()).collect();
-    Ok((t.into_pyarray(py), g.into_pyarray(py).reshape([n, 3])?, a.into_pyarray(py).reshape([n, 3])?))
+    let g: Vec<f64> = s
+        .iter()
+        .flat_map(|x| x.gyr_rad_s.iter().copied().collect::<Vec<_>>())
+        .collect();
+    let a: Vec<f64> = s
+        .iter()
+        .flat_map(|x| x.acc_m_s2.iter().copied().collect::<Vec<_>>())
+        .collect();
+    Ok((
+        t.into_pyarray(py),
+        g.into_pyarray(py).reshape([n, 3])?,
+        a.into_pyarray(py).reshape([n, 3])?,
+    ))
 }
 
 fn samples_of(t: &[f64], g: Strided<'_>, a: Strided<'_>) -> PyResult<Vec<ImuSample>> {
     if g.len() != t.len() || a.len() != t.len() {
         return Err(PyValueError::new_err("t, gyr and acc differ in length"));
     }
-    Ok((0..t.len()).map(|k| ImuSample::new(t[k], g.row(k), a.row(k))).collect())
+    Ok((0..t.len())
+        .map(|k| ImuSample::new(t[k], g.row(k), a.row(k)))
+        .collect())
 }
 
 /// `clino testbench static` on arrays (JSON of the result).
@@ -1064,7 +1172,11 @@ fn static_test(
     filter: &str,
     settle_s: f64,
 ) -> PyResult<String> {
-    let s = samples_of(slice(&t, "t")?, strided(&gyr, "gyr")?, strided(&acc, "acc")?)?;
+    let s = samples_of(
+        slice(&t, "t")?,
+        strided(&gyr, "gyr")?,
+        strided(&acc, "acc")?,
+    )?;
     let r = py.detach(|| clino::testbench::static_test::static_test(&s, filter, settle_s));
     json(&r.py(py)?)
 }
@@ -1072,17 +1184,39 @@ fn static_test(
 /// `clino testbench analyze` on a lab recording (JSON of the analysis).
 #[pyfunction]
 #[pyo3(signature = (path, excitation="conical", freq_hz=None, skip_s=0.0))]
-fn testbench_analyze(py: Python<'_>, path: PathBuf, excitation: &str, freq_hz: Option<f64>, skip_s: f64) -> PyResult<String> {
+fn testbench_analyze(
+    py: Python<'_>,
+    path: PathBuf,
+    excitation: &str,
+    freq_hz: Option<f64>,
+    skip_s: f64,
+) -> PyResult<String> {
     use clino::testbench::recording::{Excitation, Table, analyze};
     let exc = match excitation {
         "conical" => Excitation::Conical,
         "orbit" => Excitation::Orbit,
-        o => return Err(PyValueError::new_err(format!("unknown excitation '{o}' (conical or orbit)"))),
+        o => {
+            return Err(PyValueError::new_err(format!(
+                "unknown excitation '{o}' (conical or orbit)"
+            )));
+        }
     };
-    let r = py.detach(|| {
+    let r = py.detach(|| -> clino::Result<_> {
         let t = Table::read(&path)?;
-        analyze(&t, exc, &clino::sim::stewart::Geometry::typical(), freq_hz, skip_s)
-            .map_err(|e| if e.file.is_none() { e.in_file(&path) } else { e })
+        analyze(
+            &t,
+            exc,
+            &clino::sim::stewart::Geometry::typical(),
+            freq_hz,
+            skip_s,
+        )
+        .map_err(|e| {
+            if e.file.is_none() {
+                e.in_file(&path)
+            } else {
+                e
+            }
+        })
     });
     json(&r.py(py)?)
 }
@@ -1090,7 +1224,12 @@ fn testbench_analyze(py: Python<'_>, path: PathBuf, excitation: &str, freq_hz: O
 /// Allan deviation of one series (JSON list of points: tau_s, adev, 99 % interval, …).
 #[pyfunction]
 #[pyo3(signature = (y, rate_hz, per_decade=10))]
-fn allan_deviation(py: Python<'_>, y: PyReadonlyArray1<'_, f64>, rate_hz: f64, per_decade: usize) -> PyResult<String> {
+fn allan_deviation(
+    py: Python<'_>,
+    y: PyReadonlyArray1<'_, f64>,
+    rate_hz: f64,
+    per_decade: usize,
+) -> PyResult<String> {
     let y = slice(&y, "y")?;
     let r = py.detach(|| clino::testbench::allan::allan_deviation(y, rate_hz, per_decade));
     json(&r.py(py)?)
@@ -1105,8 +1244,13 @@ fn allan(py: Python<'_>, path: PathBuf, gaps: &str) -> PyResult<String> {
     let r = py.detach(|| -> clino::Result<serde_json::Value> {
         let rec = static_record::read_static_record(&path, policy)?;
         rec.require(allan::MIN_SAMPLES, "an Allan analysis")?;
-        let axes = allan::allan_imu(&rec.samples, rec.rate_hz)
-            .map_err(|e| if e.file.is_none() { e.in_file(&rec.file) } else { e })?;
+        let axes = allan::allan_imu(&rec.samples, rec.rate_hz).map_err(|e| {
+            if e.file.is_none() {
+                e.in_file(&rec.file)
+            } else {
+                e
+            }
+        })?;
         Ok(serde_json::json!({
             "file": rec.file.display().to_string(),
             "rate_hz": rec.rate_hz,
@@ -1135,16 +1279,27 @@ fn redundancy_diagnose(
     block_len: usize,
     window_blocks: usize,
 ) -> PyResult<String> {
-    use clino::redundancy::{diagnose::{DiagnosisConfig, NoiseModel}, model::SixAxisAccelerometer, recording};
+    use clino::redundancy::{
+        diagnose::{DiagnosisConfig, NoiseModel},
+        model::SixAxisAccelerometer,
+        recording,
+    };
     let k: [f64; 9] = match stiffness_n_m.len() {
         1 => [stiffness_n_m[0]; 9],
         9 => std::array::from_fn(|i| stiffness_n_m[i]),
-        n => return Err(PyValueError::new_err(format!("stiffness_n_m takes 1 or 9 values, got {n}"))),
+        n => {
+            return Err(PyValueError::new_err(format!(
+                "stiffness_n_m takes 1 or 9 values, got {n}"
+            )));
+        }
     };
-    let r = py.detach(|| {
+    let r = py.detach(|| -> clino::Result<_> {
         let acc = SixAxisAccelerometer::new(mass_kg, half_edge_m, k)?;
         let rec = recording::read_csv(&path)?;
-        let noise = NoiseModel { force_sigma_n, gyro_sigma_rad_s };
+        let noise = NoiseModel {
+            force_sigma_n,
+            gyro_sigma_rad_s,
+        };
         let cfg = DiagnosisConfig {
             block_len,
             window_blocks,

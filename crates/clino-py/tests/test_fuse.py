@@ -105,7 +105,7 @@ def test_filter_class_per_sample_and_batches_equal_one_fuse_call():
     parts = [f.update_batch(g[s:e], a[s:e], t=t[s:e])["quat"] for s, e in ((0, 1000), (1000, 1001), (1001, len(t)))]
     assert np.array_equal(np.vstack(parts), ref, equal_nan=True)
     f.reset()
-    one = np.array([f.update(g[k], a[k], t=t[k]) if True else None for k in range(300)], dtype=object)
+    one = [f.update(g[k], a[k], t=t[k]) for k in range(300)]
     q = np.vstack([x if x is not None else np.full(4, np.nan) for x in one])
     assert np.array_equal(q, ref[:300], equal_nan=True)
     assert f.counts["samples"] == 300

@@ -30,6 +30,10 @@ import numpy as _np
 from . import _clino
 from ._clino import G0, ClinoError, Calibration
 
+# importable by this name, so that an error raised on a Dask worker unpickles
+# on the client as the same class
+ClinoError.__module__ = "clino"
+
 __all__ = [
     "G0",
     "ClinoError",
