@@ -48,8 +48,7 @@ def multi_position(path, k_true, b_true, seed=3):
                 t += dt
     a = np.array(rows)
     clino.write_table(path, {
-        "t_s": a[:, 0], "gyr_x_rad_s": a[:, 1], "gyr_y_rad_s": a[:, 2], "gyr_z_rad_s": a[:, 3],
-        "acc_x_m_s2": a[:, 4], "acc_y_m_s2": a[:, 5], "acc_z_m_s2": a[:, 6],
+        "t_s": a[:, 0], "acc_x_m_s2": a[:, 4], "acc_y_m_s2": a[:, 5], "acc_z_m_s2": a[:, 6],
     })
     return ups
 
