@@ -575,12 +575,25 @@ mod tests {
         }
         let cfg = [FilterConfig::new(FilterKind::Mahony)];
         let opts = ReadOptions::default();
-        let one = evaluate(&[dir.clone()], &cfg, &opts, Some(1), |_, _, _| {}).unwrap();
+        let one = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(1),
+            |_, _, _| {},
+        )
+        .unwrap();
         let calls = std::sync::atomic::AtomicUsize::new(0);
-        let two = evaluate(&[dir.clone()], &cfg, &opts, Some(3), |_, n, _| {
-            assert_eq!(n, 4);
-            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        })
+        let two = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(3),
+            |_, n, _| {
+                assert_eq!(n, 4);
+                calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            },
+        )
         .unwrap();
         assert_eq!(one, two);
         assert_eq!(calls.into_inner(), 4);
@@ -593,7 +606,14 @@ mod tests {
         // the error of the first failing file in order, whatever finishes first
         std::fs::write(dir.join("r1.csv"), "t_s,x\n0,1\n").unwrap();
         std::fs::write(dir.join("r2.csv"), "garbage").unwrap();
-        let e = evaluate(&[dir.clone()], &cfg, &opts, Some(2), |_, _, _| {}).unwrap_err();
+        let e = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(2),
+            |_, _, _| {},
+        )
+        .unwrap_err();
         assert!(e.file.as_ref().unwrap().ends_with("r1.csv"), "{e}");
         std::fs::remove_dir_all(&dir).unwrap();
     }
