@@ -127,6 +127,54 @@ pub struct EvalTable {
     pub mean_rmse_deg: Vec<f64>,
 }
 
+/// Score one sample into `acc`, BROAD's rule: only a sample with
+/// `movement` = 1 and a finite reference (`Some`) is scored; an estimate not
+/// initialised yet counts as the identity (level, heading 0), so a filter
+/// that starts late is charged for it.
+#[inline]
+pub fn score_sample(
+    acc: &mut Rms,
+    estimate: Option<Attitude>,
+    reference: Option<Attitude>,
+    movement: Option<bool>,
+) {
+    if movement == Some(true)
+        && let Some(r) = reference
+    {
+        let q = estimate.unwrap_or_else(Attitude::identity);
+        acc.push(inclination_error(&q, &r));
+    }
+}
+
+/// The configurations `clino eval` scores for these specifications: each
+/// with the lever arm; with `offline`, the smoothed dynamic filter next to
+/// the real-time one (which must then be among them). Every one is checked.
+pub fn eval_configs(
+    specs: &[crate::fusion::FilterSpec],
+    lever_arm_m: Option<clino_core::Vec3>,
+    offline: bool,
+) -> Result<Vec<FilterConfig>> {
+    use crate::fusion::FilterKind;
+    if offline && !specs.iter().any(|s| s.kind() == FilterKind::Dynamic) {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "offline smoothing is for the dynamic filter: include it among the filters",
+        ));
+    }
+    let mut configs = Vec::new();
+    for s in specs {
+        let c = FilterConfig::from_spec(*s).with_lever_arm(lever_arm_m);
+        configs.push(c);
+        if offline && s.kind() == FilterKind::Dynamic {
+            configs.push(c.with_offline(true));
+        }
+    }
+    for c in &configs {
+        c.validate()?;
+    }
+    Ok(configs)
+}
+
 /// Score filters on one recording, in one pass over it (every filter sees
 /// every row). The recording needs `ref_q{w,x,y,z}` and `movement` columns.
 pub fn score_reader<R: Read>(
@@ -164,11 +212,7 @@ pub fn score_reader<R: Read>(
                 continue;
             }
             let o = p.update(&row.sample);
-            if scored && let Some(r) = row.ref_q {
-                // Before initialisation the estimate is the identity (level, heading 0).
-                let q = o.attitude.unwrap_or_else(Attitude::identity);
-                acc.push(inclination_error(&q, &r));
-            }
+            score_sample(acc, o.attitude, row.ref_q, row.movement);
         }
         if any_offline {
             samples.push(row.sample);
@@ -182,9 +226,7 @@ pub fn score_reader<R: Read>(
     for (i, c) in configs.iter().enumerate().filter(|(_, c)| c.offline) {
         let qs = c.smooth_samples(&samples)?;
         for (r, q) in refs.iter().zip(&qs) {
-            if let Some(r) = r {
-                rms[i].push(inclination_error(&q.unwrap_or_else(Attitude::identity), r));
-            }
+            score_sample(&mut rms[i], *q, *r, Some(true));
         }
         dropouts[i] = samples
             .iter()
@@ -247,21 +289,45 @@ pub fn expand_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
     Ok(out)
 }
 
-/// Score filters on recordings (files, or directories of `*.csv`), calling
-/// `progress(i, n, path)` before each one.
+/// Score filters on recordings (files, or directories of `*.csv` and
+/// `*.parquet`), one task per recording on `jobs` threads (rayon; `None`:
+/// every core), each streaming its file. `progress(done, n, path)` is called
+/// as each recording finishes (from the worker threads).
+///
+/// The table is in the order of the files whatever the threads do, and so
+/// is the error: the first recording (in that order) that fails gives it.
+/// Each recording is scored by the same code whether alone or in parallel,
+/// so the numbers do not depend on `jobs`.
 pub fn evaluate(
     paths: &[PathBuf],
     configs: &[FilterConfig],
     opts: &ReadOptions,
-    mut progress: impl FnMut(usize, usize, &Path),
+    jobs: Option<usize>,
+    progress: impl Fn(usize, usize, &Path) + Sync,
 ) -> Result<EvalTable> {
-    let files = expand_paths(paths)?;
-    let mut recordings = Vec::with_capacity(files.len());
-    for (i, f) in files.iter().enumerate() {
-        progress(i, files.len(), f);
-        let mut r = ImuCsvReader::from_path(f, opts)?;
-        recordings.push(score_reader(&mut r, configs)?);
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    for c in configs {
+        c.validate()?;
     }
+    let files = expand_paths(paths)?;
+    let n = files.len();
+    let done = AtomicUsize::new(0);
+    let score = |f: &PathBuf| -> Result<RecordingScore> {
+        let r = ImuCsvReader::from_path(f, opts).and_then(|mut r| score_reader(&mut r, configs));
+        progress(done.fetch_add(1, Ordering::Relaxed) + 1, n, f);
+        r
+    };
+    let run = || files.par_iter().map(score).collect::<Vec<_>>();
+    let results = match jobs {
+        Some(j) => rayon::ThreadPoolBuilder::new()
+            .num_threads(j.max(1))
+            .build()
+            .map_err(|e| Error::new(ErrorKind::InvalidInput, format!("thread pool: {e}")))?
+            .install(run),
+        None => run(),
+    };
+    let recordings = results.into_iter().collect::<Result<Vec<_>>>()?;
     Ok(EvalTable::new(configs, recordings))
 }
 
@@ -490,5 +556,65 @@ mod tests {
         let e = score_reader(&mut r, &[FilterConfig::new(FilterKind::Mahony)]).unwrap_err();
         assert_eq!(e.kind, ErrorKind::MissingColumn);
         assert_eq!(e.column.as_deref(), Some("ref_qw"));
+    }
+
+    #[test]
+    fn parallel_evaluation_is_ordered_and_equal_to_one_thread() {
+        let dir = std::env::temp_dir().join(format!("clino-eval-par-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (k, tilt) in [3.0f64, 1.0, 2.0, 5.0].iter().enumerate() {
+            let (s, c) = (tilt.to_radians().sin(), tilt.to_radians().cos());
+            let mut text = String::from(HEAD);
+            for i in 0..200 {
+                text.push_str(&format!(
+                    "{},0,0,0.01,0,0,9.81,{c},{s},0,0,1\n",
+                    i as f64 * 0.01
+                ));
+            }
+            std::fs::write(dir.join(format!("r{k}.csv")), text).unwrap();
+        }
+        let cfg = [FilterConfig::new(FilterKind::Mahony)];
+        let opts = ReadOptions::default();
+        let one = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(1),
+            |_, _, _| {},
+        )
+        .unwrap();
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let two = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(3),
+            |_, n, _| {
+                assert_eq!(n, 4);
+                calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            },
+        )
+        .unwrap();
+        assert_eq!(one, two);
+        assert_eq!(calls.into_inner(), 4);
+        let names: Vec<String> = two
+            .recordings
+            .iter()
+            .map(|r| r.file.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["r0.csv", "r1.csv", "r2.csv", "r3.csv"]);
+        // the error of the first failing file in order, whatever finishes first
+        std::fs::write(dir.join("r1.csv"), "t_s,x\n0,1\n").unwrap();
+        std::fs::write(dir.join("r2.csv"), "garbage").unwrap();
+        let e = evaluate(
+            std::slice::from_ref(&dir),
+            &cfg,
+            &opts,
+            Some(2),
+            |_, _, _| {},
+        )
+        .unwrap_err();
+        assert!(e.file.as_ref().unwrap().ends_with("r1.csv"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

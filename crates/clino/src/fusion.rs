@@ -437,6 +437,31 @@ impl HeldRecording {
         }
     }
 
+    /// Time and output per row from the usable rows' attitudes `q`: the
+    /// pipeline's statuses — `dropout` or `saturated` where
+    /// [`clino_core::pipeline::admission`] refused the row (the attitude
+    /// held), `waiting` before the first usable one, `fused` elsewhere.
+    fn outputs<'a>(&'a self, q: &'a [Attitude]) -> impl Iterator<Item = (f64, Output)> + 'a {
+        self.t
+            .iter()
+            .zip(&self.status)
+            .zip(self.expand(q))
+            .map(|((t, st), q)| {
+                let status = match (st, q) {
+                    (Some(st), _) => *st,
+                    (None, None) => Status::Waiting,
+                    (None, Some(_)) => Status::Fused,
+                };
+                (
+                    *t,
+                    Output {
+                        status,
+                        attitude: q,
+                    },
+                )
+            })
+    }
+
     /// One attitude per row from the usable rows' attitudes `q`: unusable
     /// rows hold the attitude before them (`None` before the first usable).
     fn expand<'a>(&'a self, q: &'a [Attitude]) -> impl Iterator<Item = Option<Attitude>> + 'a {
@@ -649,23 +674,18 @@ pub fn fuse_into<R: Read, S: RowSink>(
         progress(FuseProgress::Read(rows));
         let mut tell = |stage, k, n| progress(FuseProgress::Smooth(stage, k, n));
         let qs = config.smooth_held(&mut held, Some(&mut tell))?;
-        for ((t, st), q) in held.t.iter().zip(&held.status).zip(held.expand(&qs)) {
-            // before the first usable row the smoother has no attitude
-            let status = match (st, q) {
-                (Some(st), _) => *st,
-                (None, None) => Status::Waiting,
-                (None, Some(_)) => Status::Fused,
-            };
-            if st.is_none() {
-                report.counts.record(status);
+        for (t, o) in held.outputs(&qs) {
+            // unusable rows were counted as they were read
+            if matches!(o.status, Status::Waiting | Status::Fused) {
+                report.counts.record(o.status);
             }
             let row = ImuRow {
                 line: 0,
-                sample: ImuSample::new(*t, Vec3::zeros(), Vec3::zeros()),
+                sample: ImuSample::new(t, Vec3::zeros(), Vec3::zeros()),
                 ref_q: None,
                 movement: None,
             };
-            emit(out, &row, q, status).map_err(io_err)?;
+            emit(out, &row, o.attitude, o.status).map_err(io_err)?;
         }
         return Ok(report);
     }
@@ -680,6 +700,21 @@ pub fn fuse_into<R: Read, S: RowSink>(
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     Ok(report)
+}
+
+/// The outputs of the offline stage over a whole recording of (already
+/// calibrated) samples: the attitudes of [`FilterConfig::smooth_samples`]
+/// with the pipeline's statuses — `dropout` or `saturated` where
+/// [`clino_core::pipeline::admission`] refuses the sample (the attitude
+/// held), `waiting` before the first usable one, `fused` elsewhere. The one
+/// rule for files ([`fuse`]) and arrays ([`crate::batch::fuse_arrays`]).
+pub fn offline_outputs(config: &FilterConfig, samples: &[ImuSample]) -> Result<Vec<Output>> {
+    let mut held = HeldRecording::default();
+    for s in samples {
+        held.push(s);
+    }
+    let q = config.smooth_held(&mut held, None)?;
+    Ok(held.outputs(&q).map(|(_, o)| o).collect())
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.

@@ -5,6 +5,7 @@
 //!
 //! * [`io`] — recordings in (CSV, columns found by header name) and results out;
 //! * [`fusion`] — the fusion stage: filter registry, streaming CSV → CSV run;
+//! * [`batch`] — recordings held as arrays (NumPy) through the one pipeline, per-recording summaries;
 //! * [`eval`] — scoring attitude estimates against a reference (BROAD's inclination error);
 //! * [`demo`] — the built-in demonstration (embedded data, no files);
 //! * [`error`] — one error type that names the file, line and column;
@@ -24,6 +25,7 @@
 
 pub use clino_core as core;
 
+pub mod batch;
 pub mod calib;
 pub mod demo;
 pub mod error;

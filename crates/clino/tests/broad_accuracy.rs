@@ -59,7 +59,14 @@ fn dynamic_beats_vqf_on_broad() {
     );
     let rt = FilterConfig::new(FilterKind::Dynamic);
     let configs = [rt, rt.with_offline(true)];
-    let table = evaluate(&[dir], &configs, &ReadOptions::default(), |_, _, _| {}).unwrap();
+    let table = evaluate(
+        &[dir],
+        &configs,
+        &ReadOptions::default(),
+        None,
+        |_, _, _| {},
+    )
+    .unwrap();
     assert_eq!(table.recordings.len(), 12, "the twelve BROAD trials");
     let (mut vqf_rt, mut vqf_off) = (0.0, 0.0);
     for rec in &table.recordings {

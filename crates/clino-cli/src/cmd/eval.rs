@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use clino::eval::evaluate;
-use clino::fusion::{FilterConfig, FilterKind, apply_params, parse_spec_list};
+use clino::eval::{eval_configs, evaluate};
+use clino::fusion::{FilterKind, apply_params, parse_spec_list};
 
 use super::{GainArgs, ReadArgs, StageArgs};
 
@@ -20,6 +20,10 @@ pub struct Args {
     /// Print machine-readable JSON to stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Recordings scored at once, one per thread (default: every core). The
+    /// table and the numbers do not depend on it.
+    #[arg(long, short = 'j', value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
+    pub jobs: Option<u16>,
     #[command(flatten)]
     pub read: ReadArgs,
     #[command(flatten)]
@@ -39,24 +43,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.stages.offline && !specs.iter().any(|s| s.kind() == FilterKind::Dynamic) {
         anyhow::bail!("--offline smooths the dynamic filter: include it in --filter");
     }
-    let mut configs: Vec<FilterConfig> = Vec::new();
-    for s in specs {
-        let c = FilterConfig::from_spec(s).with_lever_arm(lever_arm);
-        configs.push(c);
-        if a.stages.offline && s.kind() == FilterKind::Dynamic {
-            configs.push(c.with_offline(true));
-        }
-    }
-    for c in &configs {
-        c.validate()?;
-    }
+    let configs = eval_configs(&specs, lever_arm, a.stages.offline)?;
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(indicatif::ProgressStyle::with_template(
         "{bar:30} {pos}/{len} {msg}",
     )?);
-    let table = evaluate(&a.paths, &configs, &opts, |i, n, p| {
+    let jobs = a.jobs.map(usize::from);
+    let table = evaluate(&a.paths, &configs, &opts, jobs, |done, n, p| {
         bar.set_length(n as u64);
-        bar.set_position(i as u64);
+        bar.set_position(done as u64);
         bar.set_message(p.display().to_string());
     })?;
     bar.finish_and_clear();

@@ -71,7 +71,6 @@ fn write_out<R: std::io::Read>(
     Ok(rep)
 }
 
-
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
     format!(

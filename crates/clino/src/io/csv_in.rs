@@ -85,6 +85,25 @@ impl FromStr for AccelUnit {
     }
 }
 
+/// Time of row `k` (0-based) of a recording without a time column, s:
+/// `k · (1/rate)`, the rule of [`ReadOptions::rate_hz`] (one rounding of
+/// `1/rate`, then one of the product, so every reader of arrays or files
+/// gives the same bits).
+///
+/// ```
+/// use clino::io::{ImuCsvReader, ReadOptions, row_time};
+/// let text = "gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n\
+///             0,0,0,0,0,9.8\n0,0,0,0,0,9.8\n0,0,0,0,0,9.8\n0,0,0,0,0,9.8\n";
+/// let opts = ReadOptions { rate_hz: Some(285.714), ..Default::default() };
+/// let r = ImuCsvReader::new(text.as_bytes(), "m.csv", &opts).unwrap();
+/// for (k, row) in r.enumerate() {
+///     assert_eq!(row.unwrap().sample.t_s, row_time(k as u64, 285.714));
+/// }
+/// ```
+pub fn row_time(k: u64, rate_hz: f64) -> f64 {
+    k as f64 * (1.0 / rate_hz)
+}
+
 /// How to read a recording.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReadOptions {

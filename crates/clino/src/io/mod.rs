@@ -35,7 +35,7 @@ mod table;
 pub use atomic::AtomicFile;
 pub use convert::convert;
 pub use csv_in::{
-    AccelUnit, GAP_FACTOR, GyroUnit, ImuCsvReader, ImuRow, ReadOptions, TimeGap, TimeGaps,
+    AccelUnit, GAP_FACTOR, GyroUnit, ImuCsvReader, ImuRow, ReadOptions, TimeGap, TimeGaps, row_time,
 };
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
