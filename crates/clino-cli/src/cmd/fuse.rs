@@ -81,8 +81,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let mut spec = [parse_spec(&a.filter)?];
     apply_params(&mut spec, &a.gains.params())?;
+    // `--lever-arm auto`: estimated online from the recording (dynamic filter)
+    let auto = a
+        .stages
+        .lever_arm
+        .as_deref()
+        .is_some_and(|s| s.trim().eq_ignore_ascii_case("auto"));
+    let lever = if auto { None } else { a.stages.lever_arm()? };
     let config = FilterConfig::from_spec(spec[0])
-        .with_lever_arm(a.stages.lever_arm()?)
+        .with_lever_arm(lever)
+        .with_lever_auto(auto)
         .with_offline(a.stages.offline);
     config.validate()?; // check the parameters before touching any file
     let calibration = match &a.calibration {
@@ -112,6 +120,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let title = format!("{} — {}", a.input.display(), config.label());
         trace.plot(path, &title)?;
         eprintln!("clino fuse: plot written to {}", path.display());
+    }
+    if let Some(m) = &rep.mount {
+        let mg = 1e3 / clino::core::G0;
+        let (b, sb) = (m.accel_bias_m_s2, m.accel_bias_sigma_m_s2);
+        eprintln!(
+            "clino fuse: accelerometer bias ({:.2}, {:.2}, {:.2}) mg ± ({:.2}, {:.2}, {:.2}) mg (1σ)",
+            b[0] * mg, b[1] * mg, b[2] * mg, sb[0] * mg, sb[1] * mg, sb[2] * mg
+        );
+        if config.lever_auto {
+            let (r, sr) = (m.lever_arm_m, m.lever_arm_sigma_m);
+            eprintln!(
+                "clino fuse: lever arm ({:.3}, {:.3}, {:.3}) m ± ({:.3}, {:.3}, {:.3}) m (1σ; a component along the rotation axis causes no acceleration and keeps its prior)",
+                r[0], r[1], r[2], sr[0], sr[1], sr[2]
+            );
+        }
     }
     eprintln!(
         "clino fuse: {} rows with {}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{})",

@@ -85,7 +85,9 @@ impl GainArgs {
 pub struct StageArgs {
     /// Lever arm of the sensor from a point on the rotation axis, metres, body frame: "X,Y,Z".
     /// Tangential (dω/dt × r) and centripetal (ω × (ω × r)) acceleration are removed before fusion.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    /// `clino fuse --lever-arm auto` estimates it online from the recording (dynamic filter).
+    /// With a lever arm the dynamic filter also estimates the horizontal accelerometer bias.
+    #[arg(long, value_name = "X,Y,Z|auto", allow_hyphen_values = true)]
     pub lever_arm: Option<String>,
     /// Smooth offline over the whole recording (forward–backward passes and a bounded-motion
     /// refinement; dynamic filter only). Holds the recording in memory.
