@@ -111,9 +111,7 @@ fn run_pipeline(rec: &Rec, mut p: Pipeline) -> (Vec<Attitude>, Option<(Vec3, Vec
         .iter()
         .map(|s| p.update(s).attitude.unwrap_or_else(Attitude::identity))
         .collect();
-    let m = p
-        .mount_estimator()
-        .map(|m| (m.accel_bias(), m.lever_arm()));
+    let m = p.mount_estimator().map(|m| (m.accel_bias(), m.lever_arm()));
     (est, m)
 }
 
@@ -411,10 +409,16 @@ fn main() -> clino::Result<()> {
         i += 1;
     }
     let mut filters: Vec<FilterSpec> = vec![dynamic];
-    for k in [FilterKind::Mahony, FilterKind::Madgwick, FilterKind::Complementary] {
+    for k in [
+        FilterKind::Mahony,
+        FilterKind::Madgwick,
+        FilterKind::Complementary,
+    ] {
         filters.push(FilterSpec::default_for(k));
     }
-    let names = ["dynamic", "mahony", "madgwick", "complem.", "offline", "dyn+bias"];
+    let names = [
+        "dynamic", "mahony", "madgwick", "complem.", "offline", "dyn+bias",
+    ];
     let mut conditions = Vec::new();
     for &rate in &[25.0, 100.0, 1000.0] {
         for kind in [Kind::Hand, Kind::SlowVib, Kind::ShortRests] {
@@ -450,11 +454,7 @@ fn main() -> clino::Result<()> {
         print!("{n:>20}");
     }
     println!();
-    println!(
-        "{:<40}{}",
-        "",
-        "   mean° ratio worst".repeat(names.len())
-    );
+    println!("{:<40}{}", "", "   mean° ratio worst".repeat(names.len()));
     let mut all_ratio: Vec<Vec<f64>> = vec![vec![]; names.len()];
     let print_row = |label: &str, rows: &[Vec<f64>], all: &mut Vec<Vec<f64>>| {
         let n = rows.len() as f64;
@@ -501,11 +501,7 @@ fn main() -> clino::Result<()> {
                 r[5]
             );
         }
-        print_row(
-            &format!("BROAD ({})", rows.len()),
-            &rows,
-            &mut all_ratio,
-        );
+        print_row(&format!("BROAD ({})", rows.len()), &rows, &mut all_ratio);
     }
     if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
         slewing_estimates(seeds, &dynamic);

@@ -381,8 +381,7 @@ impl Pipeline {
             match (status, self.filter.as_dynamic(), dt) {
                 (Status::Initialised, _, _) => m.restart(),
                 (Status::Fused, Some(d), Some(dt)) => {
-                    let (w, w_dot) =
-                        rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
+                    let (w, w_dot) = rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
                     m.observe(
                         &d.attitude(),
                         &d.tilt_correction(),

@@ -126,7 +126,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let (b, sb) = (m.accel_bias_m_s2, m.accel_bias_sigma_m_s2);
         eprintln!(
             "clino fuse: accelerometer bias ({:.2}, {:.2}, {:.2}) mg ± ({:.2}, {:.2}, {:.2}) mg (1σ)",
-            b[0] * mg, b[1] * mg, b[2] * mg, sb[0] * mg, sb[1] * mg, sb[2] * mg
+            b[0] * mg,
+            b[1] * mg,
+            b[2] * mg,
+            sb[0] * mg,
+            sb[1] * mg,
+            sb[2] * mg
         );
         if config.lever_auto {
             let (r, sr) = (m.lever_arm_m, m.lever_arm_sigma_m);

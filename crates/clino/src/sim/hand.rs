@@ -291,7 +291,11 @@ mod tests {
                 let wd_fd = (b.gyr_rad_s - a.gyr_rad_s) / (2.0 * h);
                 assert_relative_eq!(wd_fd, tr.ang_acc_rad_s2, epsilon = 1e-4);
                 assert_relative_eq!((b.pos_m - a.pos_m) / (2.0 * h), tr.vel_m_s, epsilon = 1e-6);
-                assert_relative_eq!((b.vel_m_s - a.vel_m_s) / (2.0 * h), tr.acc_m_s2, epsilon = 1e-4);
+                assert_relative_eq!(
+                    (b.vel_m_s - a.vel_m_s) / (2.0 * h),
+                    tr.acc_m_s2,
+                    epsilon = 1e-4
+                );
                 t += 0.173;
             }
         }
@@ -324,5 +328,53 @@ mod tests {
                 .fold(0.0, f64::max);
             assert!(peak < 0.35 && peak > 0.05, "seed {seed}: {peak}");
         }
+    }
+}
+
+#[cfg(test)]
+mod filter_tests {
+    use super::*;
+    use crate::eval::{Rms, inclination_error};
+    use crate::sim::motion::{ConeAxis, Conical, Orbit, Sum};
+    use clino_core::Vec3;
+    use clino_core::filter::FilterSpec;
+    use clino_core::pipeline::Pipeline;
+
+    #[test]
+    fn dynamic_holds_the_tilt_of_a_slow_vibrating_robot_arm() {
+        // Issue 13's robot arm: 125 Hz, accelerometer reading 4 % low,
+        // motion under 0.35 rad/s between 2-s rests, 1.5 m/s² of linear and
+        // 2°/s of angular vibration at 30 Hz. With the rest detection of
+        // commit 24815aa the slow motion passed for rest and was learnt as gyro
+        // bias: 2.14° here (the generalisation harness, seed 1, before the fix);
+        // VQF gives 0.08°; now ≈ 0.1°.
+        let hand = HandMotion::new(HandParams::slow(), 1);
+        let f = 30.0;
+        let w = 2.0 * PI * f;
+        let lin = Orbit {
+            amplitude_m: Vec3::new(1.5, 1.0, 1.2) / (w * w),
+            phase_rad: Vec3::new(0.0, 1.0, 2.0),
+            omega_rad_s: w,
+            attitude: Attitude::identity(),
+            start_s: f64::NEG_INFINITY,
+            ramp_s: 0.0,
+        };
+        let m = Sum {
+            a: Sum { a: hand, b: lin },
+            b: Conical::new(ConeAxis::Z, 2f64.to_radians() / w, f),
+        };
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(50.0);
+        model.accel.scale = Vec3::repeat(-0.04);
+        let s = model.simulate(&m, 125.0, 120.0, 1);
+        let mut p = Pipeline::new(FilterSpec::default());
+        let mut rms = Rms::default();
+        for smp in &s {
+            let q = p.update(smp).attitude.unwrap_or_else(Attitude::identity);
+            if smp.t_s > hand.params.initial_rest_s {
+                rms.push(inclination_error(&q, &m.truth(smp.t_s).attitude));
+            }
+        }
+        let e = rms.value().to_degrees();
+        assert!(e < 0.2, "{e}°");
     }
 }
