@@ -216,11 +216,17 @@ impl LeverArm {
     /// The compensated specific force of a sample taken `dt` s after the
     /// previous one (`acc` unchanged when the sample cannot be differentiated).
     pub fn compensate(&mut self, gyr: &Vec3, acc: &Vec3, gyro_bias: &Vec3, dt: f64) -> Vec3 {
-        let w = gyr - gyro_bias;
-        match self.diff.push(dt, w) {
-            Some(w_dot) => acc - lever_arm_acceleration(&w, &w_dot, &self.r_m),
+        match self.rates(gyr, gyro_bias, dt) {
+            Some((w, w_dot)) => acc - lever_arm_acceleration(&w, &w_dot, &self.r_m),
             None => *acc,
         }
+    }
+
+    /// The rate ω = ω_meas − b̂ and its derivative ω̇ of a sample taken `dt` s
+    /// after the previous one (`None` when it cannot be differentiated).
+    pub fn rates(&mut self, gyr: &Vec3, gyro_bias: &Vec3, dt: f64) -> Option<(Vec3, Vec3)> {
+        let w = gyr - gyro_bias;
+        self.diff.push(dt, w).map(|w_dot| (w, w_dot))
     }
 }
 
@@ -306,6 +312,304 @@ impl<F: AttitudeFilter> AttitudeFilter for Compensated<F> {
 
     fn gyro_bias(&self) -> Vec3 {
         self.inner.gyro_bias()
+    }
+}
+
+/// Options of [`MountEstimator`]: what it estimates, and the priors and
+/// noise it assumes, in physical units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MountOptions {
+    /// Estimate the accelerometer bias (body frame). Its horizontal part is
+    /// observable while the mount turns about the vertical (rotation
+    /// modulation); otherwise it stays at its prior (zero), and the tilt is
+    /// what it would have been without the estimator.
+    pub estimate_bias: bool,
+    /// Estimate the lever arm (`--lever-arm auto`); otherwise it is held at
+    /// [`MountOptions::lever_arm_m`].
+    pub estimate_lever: bool,
+    /// The lever arm, m (body frame): the prior mean when estimated, the
+    /// value used otherwise.
+    pub lever_arm_m: Vec3,
+    /// Prior 1σ of each accelerometer bias component, m/s². Default 0.1 m/s²
+    /// (≈ 10 mg: an MPU6050 after a rough calibration).
+    pub bias_sigma_m_s2: f64,
+    /// Prior 1σ of each lever-arm component when estimated, m. Default 2 m.
+    pub lever_sigma_m: f64,
+    /// Prior 1σ of the navigation-frame offset (the filter's initial tilt
+    /// error times g, and on the vertical the accelerometer's scale error
+    /// times g), m/s². Default 10 m/s² (≈ g: diffuse, the initial attitude
+    /// may be anything). A narrower prior would hand a share of the initial
+    /// error to the bias before any rotation could tell them apart.
+    pub offset_sigma_m_s2: f64,
+    /// Random walk of that offset, m/s²/√s: a gyro-bias error δb turns the
+    /// tilt by δb per second, g·δb of specific force. Default 3e-3 m/s²/√s
+    /// (0.02°/s of gyro-bias error followed over ≈ 10 s).
+    pub offset_walk_m_s2_sqrt_s: f64,
+    /// Gyro scale-factor and misalignment error, 1: while the mount turns at
+    /// |ω| the gyro propagation drifts by that fraction of the rate, and the
+    /// offset wanders by g·κ·|ω| per √s on top of `offset_walk_m_s2_sqrt_s`.
+    /// Default 3e-4 (a calibrated MEMS gyro: 0.03 %, the residual of a
+    /// rate-table calibration).
+    pub gyro_scale_error: f64,
+    /// Length of the blocks over which the model is averaged before each
+    /// update, s. Default 0.5 s: the mount's own acceleration averages to
+    /// Δv/T over a block, and engine vibration to nothing.
+    pub block_s: f64,
+    /// Smallest 1σ of a block's unexplained specific force, m/s². Default
+    /// 0.005 m/s² (accelerometer noise averaged over a block is ≈ 10× less).
+    pub noise_floor_m_s2: f64,
+    /// Time constant over which that 1σ is learnt from the innovations, s.
+    /// Default 20 s.
+    pub noise_tau_s: f64,
+    /// Local gravity, m/s².
+    pub gravity_m_s2: f64,
+}
+
+impl Default for MountOptions {
+    fn default() -> Self {
+        Self {
+            estimate_bias: true,
+            estimate_lever: false,
+            lever_arm_m: Vec3::zeros(),
+            bias_sigma_m_s2: 0.1,
+            lever_sigma_m: 2.0,
+            offset_sigma_m_s2: 10.0,
+            offset_walk_m_s2_sqrt_s: 3e-3,
+            gyro_scale_error: 3e-4,
+            block_s: 0.5,
+            noise_floor_m_s2: 5e-3,
+            noise_tau_s: 20.0,
+            gravity_m_s2: crate::G0,
+        }
+    }
+}
+
+type M9 = nalgebra::SMatrix<f64, 9, 9>;
+type V9 = nalgebra::SVector<f64, 9>;
+type M39 = nalgebra::SMatrix<f64, 3, 9>;
+
+/// Online estimate of the accelerometer bias and of the lever arm from the
+/// recording itself, observing the [`crate::filter::Dynamic`] filter.
+///
+/// # Model
+///
+/// With the filter's attitude q̂ = Q_c ⊗ q̂₀ (body → ENU), where Q_c is the
+/// product of the tilt corrections it has applied
+/// ([`crate::filter::Dynamic::tilt_correction`]) and q̂₀ the attitude of its
+/// gyro propagation alone (rotation matrix R̂₀), the specific force the
+/// accelerometer reads, f, rotated into the navigation frame with q̂₀, is
+///
+/// ```text
+/// z = R̂₀·f − g·e_U
+///   = m + R̂₀·b + R̂₀·(ω̇× + ω×ω×)·r + a
+/// ```
+///
+/// where m is a constant (the filter's initial tilt error times g on the
+/// horizontal, the accelerometer's scale error times g on the vertical,
+/// slowly wandering with the gyro-bias error), b the accelerometer bias
+/// (body), r the lever arm (body) and a the mount's own acceleration, which
+/// averages to Δv/T over a block of length T (all rotated by the constant
+/// initial error of q̂₀, which is absorbed in the estimates' frame: it is
+/// the filter's own small tilt error). The tangential and centripetal
+/// terms are linear in r given ω and ω̇ (the patent's compensation, read
+/// backwards), so z is linear in the state x = (m, b, r): a Kalman filter
+/// (equivalently, recursive least squares with priors) on block means,
+/// H = [I, mean R̂₀, mean R̂₀·(ω̇× + ω×ω×)], gives x and its covariance.
+///
+/// # Observability
+///
+/// On a mount that does not turn, R̂₀ is constant and b is indistinguishable
+/// from m (a bias is a tilt): the estimate keeps (nearly) its prior, zero, and the
+/// tilt is unchanged. When the mount turns about the vertical, R̂₀·b turns
+/// with it while m does not (rotation modulation, as in carouseling): the
+/// horizontal bias becomes observable. The lever arm is observable where
+/// ω̇ or ω is non-zero, except its component along the rotation axis, which
+/// causes no acceleration either. The noise of a block mean is learnt from
+/// the innovations (time constant `noise_tau_s`, floor `noise_floor_m_s2`),
+/// so a hand's large accelerations weigh little and a machine's small ones much.
+#[derive(Clone, Debug)]
+pub struct MountEstimator {
+    opts: MountOptions,
+    x: V9,
+    p: M9,
+    sz: Vec3,
+    sr: nalgebra::Matrix3<f64>,
+    srh: nalgebra::Matrix3<f64>,
+    st: f64,
+    sw: f64,
+    noise_var: f64,
+    blocks: u64,
+}
+
+impl MountEstimator {
+    /// An estimator with the priors of `opts`.
+    pub fn new(opts: MountOptions) -> Self {
+        let mut p = M9::zeros();
+        let mut x = V9::zeros();
+        for i in 0..3 {
+            p[(i, i)] = opts.offset_sigma_m_s2 * opts.offset_sigma_m_s2;
+            if opts.estimate_bias {
+                p[(3 + i, 3 + i)] = opts.bias_sigma_m_s2 * opts.bias_sigma_m_s2;
+            }
+            if opts.estimate_lever {
+                p[(6 + i, 6 + i)] = opts.lever_sigma_m * opts.lever_sigma_m;
+            }
+            x[6 + i] = opts.lever_arm_m[i];
+        }
+        let floor = opts.noise_floor_m_s2.max(1e-6);
+        Self {
+            opts,
+            x,
+            p,
+            sz: Vec3::zeros(),
+            sr: nalgebra::Matrix3::zeros(),
+            srh: nalgebra::Matrix3::zeros(),
+            st: 0.0,
+            sw: 0.0,
+            // start pessimistic (a hand): the innovations bring it down
+            noise_var: (100.0 * floor * floor).max(0.05 * 0.05),
+            blocks: 0,
+        }
+    }
+
+    /// The options.
+    pub fn options(&self) -> &MountOptions {
+        &self.opts
+    }
+
+    /// Accelerometer bias estimate, m/s² (body frame).
+    pub fn accel_bias(&self) -> Vec3 {
+        Vec3::new(self.x[3], self.x[4], self.x[5])
+    }
+
+    /// 1σ of each accelerometer-bias component, m/s².
+    pub fn accel_bias_sigma(&self) -> Vec3 {
+        Vec3::new(self.p[(3, 3)], self.p[(4, 4)], self.p[(5, 5)]).map(crate::math::sqrt)
+    }
+
+    /// Lever-arm estimate (or the given one), m (body frame).
+    pub fn lever_arm(&self) -> Vec3 {
+        Vec3::new(self.x[6], self.x[7], self.x[8])
+    }
+
+    /// 1σ of each lever-arm component, m (zero when not estimated).
+    pub fn lever_arm_sigma(&self) -> Vec3 {
+        Vec3::new(self.p[(6, 6)], self.p[(7, 7)], self.p[(8, 8)]).map(crate::math::sqrt)
+    }
+
+    /// 1σ of a block's unexplained specific force, as learnt, m/s².
+    pub fn noise_sigma(&self) -> f64 {
+        crate::math::sqrt(self.noise_var)
+    }
+
+    /// Blocks used so far.
+    pub fn blocks(&self) -> u64 {
+        self.blocks
+    }
+
+    /// Drop the partial block (the filter re-initialised: C restarts at zero
+    /// and the offset m is new); the estimates of b and r are kept and m's
+    /// prior restored.
+    pub fn restart(&mut self) {
+        self.sz = Vec3::zeros();
+        self.sr = nalgebra::Matrix3::zeros();
+        self.srh = nalgebra::Matrix3::zeros();
+        self.st = 0.0;
+        self.sw = 0.0;
+        let s2 = self.opts.offset_sigma_m_s2 * self.opts.offset_sigma_m_s2;
+        for i in 0..3 {
+            self.x[i] = 0.0;
+            for j in 0..9 {
+                self.p[(i, j)] = 0.0;
+                self.p[(j, i)] = 0.0;
+            }
+            self.p[(i, i)] = s2;
+        }
+    }
+
+    /// Observe one fused sample: the filter's attitude `q` and its correction
+    /// product `corr` after it ([`crate::filter::Dynamic::tilt_correction`]),
+    /// the accelerometer reading `f` before any compensation (m/s²), the rate
+    /// `w` and its derivative `w_dot`, and `dt`.
+    pub fn observe(
+        &mut self,
+        q: &Attitude,
+        corr: &Attitude,
+        f: &Vec3,
+        w: &Vec3,
+        w_dot: &Vec3,
+        dt: f64,
+    ) {
+        if !(dt.is_finite() && dt > 0.0) {
+            return;
+        }
+        let r = (corr.inverse() * q).to_rotation_matrix().into_inner();
+        let g = self.opts.gravity_m_s2;
+        let z = r * f - Vec3::new(0.0, 0.0, g);
+        let (wx, wdx) = (w.cross_matrix(), w_dot.cross_matrix());
+        let h = wdx + wx * wx;
+        if !(z.iter().all(|v| v.is_finite()) && h.iter().all(|v| v.is_finite())) {
+            return;
+        }
+        self.sz += z * dt;
+        self.sr += r * dt;
+        self.srh += r * h * dt;
+        self.st += dt;
+        self.sw += w.norm() * dt;
+        if self.st >= self.opts.block_s {
+            self.update_block();
+        }
+    }
+
+    fn update_block(&mut self) {
+        let t = self.st;
+        let (z, rb, rh) = (self.sz / t, self.sr / t, self.srh / t);
+        let drift = self.opts.gyro_scale_error * self.opts.gravity_m_s2 * self.sw / t;
+        self.sz = Vec3::zeros();
+        self.sr = nalgebra::Matrix3::zeros();
+        self.srh = nalgebra::Matrix3::zeros();
+        self.st = 0.0;
+        self.sw = 0.0;
+        // time update: the offset wanders (gyro-bias error, and scale error while turning)
+        let walk = self.opts.offset_walk_m_s2_sqrt_s;
+        let q = (walk * walk + drift * drift) * t;
+        for i in 0..3 {
+            self.p[(i, i)] += q;
+        }
+        let mut hm = M39::zeros();
+        for i in 0..3 {
+            hm[(i, i)] = 1.0;
+            for j in 0..3 {
+                hm[(i, 3 + j)] = rb[(i, j)];
+                hm[(i, 6 + j)] = rh[(i, j)];
+            }
+        }
+        let nu = z - hm * self.x;
+        let hph = hm * self.p * hm.transpose();
+        // a block whose innovation the state's uncertainty and the learnt noise
+        // do not explain (a hand's push, a bump) weighs as little as its own
+        // size says
+        let e = (nu.norm_squared() - hph.trace()) / 3.0;
+        let r = self.noise_var.max(e);
+        let s = hph + nalgebra::Matrix3::identity() * r;
+        let Some(s_inv) = s.try_inverse() else {
+            return;
+        };
+        let k = self.p * hm.transpose() * s_inv;
+        let x = self.x + k * nu;
+        let p = self.p - k * s * k.transpose();
+        let p = (p + p.transpose()) * 0.5;
+        if !(x.iter().all(|v| v.is_finite()) && p.iter().all(|v| v.is_finite())) {
+            return;
+        }
+        self.x = x;
+        self.p = p;
+        self.blocks += 1;
+        // the unexplained part of the block mean, learnt from the innovations
+        let floor = self.opts.noise_floor_m_s2 * self.opts.noise_floor_m_s2;
+        let a = (t / self.opts.noise_tau_s.max(t)).min(1.0);
+        self.noise_var += a * (e.max(floor) - self.noise_var);
+        self.noise_var = self.noise_var.max(floor);
     }
 }
 

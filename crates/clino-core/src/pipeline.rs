@@ -46,7 +46,7 @@
 //! assert!((tilt.roll_rad - roll).abs() < 1e-9);
 //! ```
 
-use crate::compensate::LeverArm;
+use crate::compensate::{LeverArm, MountEstimator, MountOptions, lever_arm_acceleration};
 use crate::filter::{AnyFilter, AttitudeFilter, FilterSpec, Step};
 use crate::sensor::Calibration;
 use crate::tilt::{RollPitch, inclination};
@@ -209,6 +209,7 @@ pub struct Pipeline {
     spec: FilterSpec,
     calibration: Option<Calibration>,
     lever: Option<LeverArm>,
+    mount: Option<MountEstimator>,
     filter: AnyFilter,
     last_t: Option<f64>,
     counts: Counts,
@@ -222,6 +223,7 @@ impl Pipeline {
             spec,
             calibration: None,
             lever: None,
+            mount: None,
             last_t: None,
             counts: Counts::default(),
         }
@@ -232,6 +234,28 @@ impl Pipeline {
     pub fn with_lever_arm(mut self, r_m: Option<Vec3>) -> Self {
         self.lever = r_m.map(LeverArm::new);
         self
+    }
+
+    /// The same pipeline estimating the accelerometer bias and/or the lever
+    /// arm online ([`MountEstimator`]; the dynamic filter only — with any
+    /// other filter the estimator stays at its priors). Its current estimates
+    /// are removed from every sample before the filter sees it: the bias, and
+    /// the tangential and centripetal terms of the estimated (or given) arm.
+    /// With `opts.estimate_lever` or a non-zero `opts.lever_arm_m` the lever
+    /// stage is switched on.
+    pub fn with_mount_estimator(mut self, opts: Option<MountOptions>) -> Self {
+        self.mount = opts.map(MountEstimator::new);
+        if let Some(o) = opts
+            && (o.estimate_lever || o.lever_arm_m != Vec3::zeros())
+        {
+            self.lever = Some(LeverArm::new(o.lever_arm_m));
+        }
+        self
+    }
+
+    /// The online bias and lever-arm estimator, when running.
+    pub fn mount_estimator(&self) -> Option<&MountEstimator> {
+        self.mount.as_ref()
     }
 
     /// The same pipeline calibrating every sample first.
@@ -288,6 +312,9 @@ impl Pipeline {
         if let Some(l) = &mut self.lever {
             l.reset();
         }
+        if let Some(m) = &mut self.mount {
+            *m = MountEstimator::new(*m.options());
+        }
         self.last_t = None;
         self.counts = Counts::default();
     }
@@ -322,8 +349,18 @@ impl Pipeline {
             None => None,
         };
         let mut acc = s.acc_m_s2;
+        let mut rates = None;
         if let (Some(l), Some(dt)) = (&mut self.lever, dt) {
-            acc = l.compensate(&s.gyr_rad_s, &acc, &self.filter.gyro_bias(), dt);
+            rates = l.rates(&s.gyr_rad_s, &self.filter.gyro_bias(), dt);
+            if let Some(m) = &self.mount {
+                l.r_m = m.lever_arm();
+            }
+            if let Some((w, w_dot)) = rates {
+                acc -= lever_arm_acceleration(&w, &w_dot, &l.r_m);
+            }
+        }
+        if let Some(m) = &self.mount {
+            acc -= m.accel_bias();
         }
         // before the first used sample dt is never read (the filter initialises
         // from the accelerometer); any positive value passes the filter's gate
@@ -339,6 +376,23 @@ impl Pipeline {
         };
         if status.is_used() {
             self.last_t = Some(s.t_s);
+        }
+        if let Some(m) = &mut self.mount {
+            match (status, self.filter.as_dynamic(), dt) {
+                (Status::Initialised, _, _) => m.restart(),
+                (Status::Fused, Some(d), Some(dt)) => {
+                    let (w, w_dot) = rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
+                    m.observe(
+                        &d.attitude(),
+                        &d.tilt_correction(),
+                        &s.acc_m_s2,
+                        &w,
+                        &w_dot,
+                        dt,
+                    );
+                }
+                _ => {}
+            }
         }
         status
     }

@@ -280,6 +280,16 @@ pub struct FilterConfig {
     /// frame: tangential and centripetal acceleration are removed before
     /// fusion ([`clino_core::compensate::LeverArm`]).
     pub lever_arm_m: Option<Vec3>,
+    /// Estimate the lever arm online from the recording (`--lever-arm auto`,
+    /// [`clino_core::compensate::MountEstimator`]); dynamic filter only.
+    /// `lever_arm_m`, when also given, is the starting value.
+    pub lever_auto: bool,
+    /// Estimate the horizontal accelerometer bias online where rotation makes
+    /// it observable ([`clino_core::compensate::MountEstimator`]); dynamic
+    /// filter only. [`FilterConfig::with_lever_arm`] and
+    /// [`FilterConfig::with_lever_auto`] switch it on (a mount with a lever
+    /// arm turns); on a mount that does not turn it stays at zero.
+    pub accel_bias: bool,
     /// Offline smoothing over the whole recording ([`crate::smooth`]); only
     /// for the dynamic filter. [`fuse`] and [`crate::eval`] buffer the
     /// recording when this is set.
@@ -297,6 +307,8 @@ impl FilterConfig {
         Self {
             spec,
             lever_arm_m: None,
+            lever_auto: false,
+            accel_bias: false,
             offline: false,
         }
     }
@@ -307,9 +319,50 @@ impl FilterConfig {
     }
 
     /// The same filter with lever-arm compensation (m, body frame).
+    ///
+    /// With the dynamic filter this also estimates the accelerometer bias
+    /// ([`FilterConfig::accel_bias`]; undo with [`FilterConfig::with_accel_bias`]).
     pub fn with_lever_arm(mut self, lever_arm_m: Option<Vec3>) -> Self {
         self.lever_arm_m = lever_arm_m;
+        self.accel_bias = self.wants_accel_bias();
         self
+    }
+
+    /// The same filter with the lever arm estimated online (`--lever-arm auto`);
+    /// with the dynamic filter also the accelerometer bias.
+    pub fn with_lever_auto(mut self, auto: bool) -> Self {
+        self.lever_auto = auto;
+        self.accel_bias = self.wants_accel_bias();
+        self
+    }
+
+    /// Switch the online accelerometer-bias estimate on or off.
+    pub fn with_accel_bias(mut self, on: bool) -> Self {
+        self.accel_bias = on;
+        self
+    }
+
+    fn wants_accel_bias(&self) -> bool {
+        self.kind() == FilterKind::Dynamic && (self.lever_arm_m.is_some() || self.lever_auto)
+    }
+
+    /// The options of the online estimator of this configuration, `None` when
+    /// it estimates neither bias nor lever arm.
+    pub fn mount_options(&self) -> Option<clino_core::compensate::MountOptions> {
+        if !(self.lever_auto || self.accel_bias) {
+            return None;
+        }
+        let gravity_m_s2 = match self.spec {
+            FilterSpec::Dynamic(p) => p.gravity_m_s2,
+            _ => clino_core::G0,
+        };
+        Some(clino_core::compensate::MountOptions {
+            estimate_bias: self.accel_bias,
+            estimate_lever: self.lever_auto,
+            lever_arm_m: self.lever_arm_m.unwrap_or_else(Vec3::zeros),
+            gravity_m_s2,
+            ..Default::default()
+        })
     }
 
     /// The same filter, smoothed offline over the whole recording.
@@ -325,8 +378,13 @@ impl FilterConfig {
         if self.offline {
             s.push_str("+offline");
         }
-        if self.lever_arm_m.is_some() {
+        if self.lever_auto {
+            s.push_str("+lever=auto");
+        } else if self.lever_arm_m.is_some() {
             s.push_str("+lever");
+        }
+        if self.accel_bias {
+            s.push_str("+accbias");
         }
         s
     }
@@ -341,6 +399,12 @@ impl FilterConfig {
         {
             return Err(invalid("lever arm must be three finite numbers (m)"));
         }
+        if (self.lever_auto || self.accel_bias) && self.kind() != FilterKind::Dynamic {
+            return Err(invalid(format!(
+                "the online lever-arm and accelerometer-bias estimate observes the dynamic filter, not {}",
+                self.kind()
+            )));
+        }
         if self.offline && self.kind() != FilterKind::Dynamic {
             return Err(invalid(format!(
                 "offline smoothing is available for the dynamic filter, not for {}",
@@ -353,7 +417,10 @@ impl FilterConfig {
     /// The real-time pipeline of this configuration (checked first).
     pub fn pipeline(&self) -> Result<Pipeline> {
         self.validate()?;
-        Ok(Pipeline::new(self.spec).with_lever_arm(self.lever_arm_m))
+        Ok(match self.mount_options() {
+            Some(m) => Pipeline::new(self.spec).with_mount_estimator(Some(m)),
+            None => Pipeline::new(self.spec).with_lever_arm(self.lever_arm_m),
+        })
     }
 
     /// Offline attitudes of a whole recording held in memory (dynamic filter,
@@ -381,9 +448,30 @@ impl FilterConfig {
         let FilterSpec::Dynamic(params) = self.spec else {
             return Err(invalid("offline smoothing needs the dynamic filter"));
         };
+        // an online estimate (bias, lever arm) is made by a real-time pass first;
+        // the smoother then runs on the bias-corrected readings with that arm
+        let mut lever_arm_m = self.lever_arm_m;
+        if self.mount_options().is_some() {
+            let mut p = self.pipeline()?;
+            let usable_t = held
+                .t
+                .iter()
+                .zip(&held.status)
+                .filter(|(_, st)| st.is_none());
+            for (j, (t, _)) in usable_t.enumerate() {
+                p.update(&ImuSample::new(*t, held.gyr[j], held.acc[j]));
+            }
+            if let Some(m) = p.mount_estimator() {
+                if self.lever_auto || self.lever_arm_m.is_some() {
+                    lever_arm_m = Some(m.lever_arm());
+                }
+                let b = m.accel_bias();
+                held.acc.iter_mut().for_each(|a| *a -= b);
+            }
+        }
         let opts = crate::smooth::SmoothOptions {
             params,
-            lever_arm_m: self.lever_arm_m,
+            lever_arm_m,
             ..Default::default()
         };
         held.finish_intervals();
@@ -488,12 +576,41 @@ pub enum FuseProgress {
 
 /// Counts of a run of [`fuse`]: the pipeline's [`Counts`] (one per row;
 /// `samples` = rows read = rows written) and where the first unusable row was.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct FuseReport {
     /// Rows by status.
     pub counts: Counts,
     /// Line of the first dropout or saturated row.
     pub first_dropout_line: Option<u64>,
+    /// The online accelerometer-bias and lever-arm estimates at the end of
+    /// a real-time run, when the configuration makes them.
+    pub mount: Option<MountReport>,
+}
+
+/// Final estimates of [`clino_core::compensate::MountEstimator`] with their 1σ.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct MountReport {
+    /// Accelerometer bias, m/s² (body frame).
+    pub accel_bias_m_s2: [f64; 3],
+    /// Its 1σ per axis, m/s².
+    pub accel_bias_sigma_m_s2: [f64; 3],
+    /// Lever arm, m (body frame): estimated, or the one given.
+    pub lever_arm_m: [f64; 3],
+    /// Its 1σ per axis, m (zero when given).
+    pub lever_arm_sigma_m: [f64; 3],
+}
+
+impl MountReport {
+    /// The report of an estimator's current state.
+    pub fn of(m: &clino_core::compensate::MountEstimator) -> Self {
+        let a = |v: Vec3| [v.x, v.y, v.z];
+        Self {
+            accel_bias_m_s2: a(m.accel_bias()),
+            accel_bias_sigma_m_s2: a(m.accel_bias_sigma()),
+            lever_arm_m: a(m.lever_arm()),
+            lever_arm_sigma_m: a(m.lever_arm_sigma()),
+        }
+    }
 }
 
 impl FuseReport {
@@ -699,6 +816,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         report.add(o.status, row.line);
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
+    report.mount = pipeline.mount_estimator().map(MountReport::of);
     Ok(report)
 }
 

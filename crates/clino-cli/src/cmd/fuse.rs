@@ -71,6 +71,29 @@ fn write_out<R: std::io::Read>(
     Ok(rep)
 }
 
+/// The mount estimate (accelerometer bias, lever arm) on stderr.
+fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
+    let mg = 1e3 / clino::core::G0;
+    let (b, sb) = (m.accel_bias_m_s2, m.accel_bias_sigma_m_s2);
+    let mut s = format!(
+        "clino fuse: accelerometer bias ({:.2}, {:.2}, {:.2}) mg ± ({:.2}, {:.2}, {:.2}) mg (1σ)",
+        b[0] * mg,
+        b[1] * mg,
+        b[2] * mg,
+        sb[0] * mg,
+        sb[1] * mg,
+        sb[2] * mg
+    );
+    if lever_auto {
+        let (r, sr) = (m.lever_arm_m, m.lever_arm_sigma_m);
+        s.push_str(&format!(
+            "\nclino fuse: lever arm ({:.3}, {:.3}, {:.3}) m ± ({:.3}, {:.3}, {:.3}) m (1σ; a component along the rotation axis causes no acceleration and keeps its prior)",
+            r[0], r[1], r[2], sr[0], sr[1], sr[2]
+        ));
+    }
+    s
+}
+
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
     format!(
@@ -132,6 +155,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let title = format!("{} — {}", a.input.display(), config.label());
         trace.plot(path, &title)?;
         eprintln!("clino fuse: plot written to {}", path.display());
+    }
+    if let Some(m) = &rep.mount {
+        eprintln!("{}", mount_summary(m, config.lever_auto));
     }
     eprintln!("{}", summary(&rep, &config.label()));
     Ok(())

@@ -178,8 +178,15 @@ pub fn filter_config(
 ) -> anyhow::Result<FilterConfig> {
     let mut spec = [parse_spec(filter)?];
     apply_params(&mut spec, &gains.params())?;
+    // `--lever-arm auto`: estimated online from the recording (dynamic filter)
+    let auto = stages
+        .lever_arm
+        .as_deref()
+        .is_some_and(|s| s.trim().eq_ignore_ascii_case("auto"));
+    let lever = if auto { None } else { stages.lever_arm()? };
     let config = FilterConfig::from_spec(spec[0])
-        .with_lever_arm(stages.lever_arm()?)
+        .with_lever_arm(lever)
+        .with_lever_auto(auto)
         .with_offline(stages.offline);
     config.validate()?;
     Ok(config)
@@ -263,7 +270,9 @@ impl GainArgs {
 pub struct StageArgs {
     /// Lever arm of the sensor from a point on the rotation axis, metres, body frame: "X,Y,Z".
     /// Tangential (dω/dt × r) and centripetal (ω × (ω × r)) acceleration are removed before fusion.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    /// `clino fuse --lever-arm auto` estimates it online from the recording (dynamic filter).
+    /// With a lever arm the dynamic filter also estimates the horizontal accelerometer bias.
+    #[arg(long, value_name = "X,Y,Z|auto", allow_hyphen_values = true)]
     pub lever_arm: Option<String>,
     /// Smooth offline over the whole recording (forward–backward passes and a bounded-motion
     /// refinement; dynamic filter only). Holds the recording in memory.

@@ -27,6 +27,7 @@ pub mod slewing;
 use clino_core::{Attitude, Vec3};
 
 pub mod calib;
+pub mod hand;
 pub mod imu;
 pub mod motion;
 pub mod platform;

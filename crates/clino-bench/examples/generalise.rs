@@ -1,0 +1,515 @@
+//! The generalisation harness (issue 13): every filter over a grid of
+//! simulated conditions — sample rate × motion × vibration × sensor errors —
+//! and over the real BROAD recordings, each scored against VQF (the pure-Rust
+//! `vqf-rs` port, real time, 6-D, its defaults) on the same samples.
+//!
+//! ```text
+//! cargo run --release -p clino-bench --example generalise -- [--seeds N] [--only TEXT]
+//!     [--dynamic SPEC] [--broad DIR] [--no-broad]
+//! ```
+//!
+//! For each condition it prints VQF's mean inclination RMSE (BROAD's metric,
+//! [`clino::eval::inclination_error`]) over the seeds, and for every filter
+//! its mean RMSE, the ratio of its mean to VQF's and its worst per-recording
+//! ratio. `--dynamic SPEC` replaces the dynamic filter's parameters (the
+//! `name:key=value` form of `clino fuse -f`), so a default can be tried on the
+//! whole grid before it is changed.
+//!
+//! Simulated recordings are scored from the end of their initial rest on
+//! (motion and the rests between moves); BROAD on its `movement` samples.
+//! A non-finite estimate makes a score NaN (never dropped).
+
+use clino::core::compensate::{LeverArm, MountOptions};
+use clino::core::{Attitude, ImuSample, Vec3};
+use clino::eval::inclination_error;
+use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
+use clino::io::{ImuCsvReader, ReadOptions};
+use clino::sim::hand::{HandMotion, HandParams};
+use clino::sim::motion::{ConeAxis, Conical, Orbit, Sum};
+use clino::sim::slewing::{self, SlewingPlatform};
+use clino::sim::{ImuModel, Motion};
+use clino::smooth::{SmoothOptions, smooth};
+use std::path::PathBuf;
+
+/// One recording: samples, truth (or reference), which samples are scored.
+struct Rec {
+    samples: Vec<ImuSample>,
+    truth: Vec<Option<Attitude>>,
+    scored: Vec<bool>,
+    /// Lever arm to compensate (slewing machine), m.
+    lever: Option<Vec3>,
+}
+
+fn rmse(rec: &Rec, est: &[Attitude]) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for (k, q) in est.iter().enumerate() {
+        if let (true, Some(t)) = (rec.scored[k], rec.truth[k]) {
+            let e = inclination_error(q, &t);
+            s += e * e;
+            n += 1;
+        }
+    }
+    (s / n.max(1) as f64).sqrt().to_degrees()
+}
+
+fn nominal_dt(rec: &Rec) -> f64 {
+    let mut d: Vec<f64> = rec
+        .samples
+        .windows(2)
+        .map(|w| w[1].t_s - w[0].t_s)
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    d.sort_by(|a, b| a.total_cmp(b));
+    d.get(d.len() / 2).copied().unwrap_or(0.01)
+}
+
+fn run_vqf(rec: &Rec) -> Vec<Attitude> {
+    let ts = nominal_dt(rec);
+    let mut v = vqf_rs::VQF::new(ts, None, None, None);
+    // VQF has no lever-arm stage: it gets the same compensated specific force
+    // as clino's filters (the real-time differentiator, the true rate's bias 0)
+    let mut lever = rec.lever.map(LeverArm::new);
+    let mut last_t: Option<f64> = None;
+    rec.samples
+        .iter()
+        .map(|s| {
+            let mut a = s.acc_m_s2;
+            if let (Some(l), Some(t0)) = (&mut lever, last_t) {
+                a = l.compensate(&s.gyr_rad_s, &a, &Vec3::zeros(), s.t_s - t0);
+            }
+            last_t = Some(s.t_s);
+            let g = s.gyr_rad_s;
+            v.update([g.x, g.y, g.z], [a.x, a.y, a.z], None);
+            let q = v.quat_6d();
+            Attitude::from_quaternion(nalgebra::Quaternion::new(q.0, q.1, q.2, q.3))
+        })
+        .collect()
+}
+
+fn run_clino(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
+    run_pipeline(rec, Pipeline::new(*spec).with_lever_arm(rec.lever)).0
+}
+
+/// The dynamic filter with the online accelerometer-bias estimator (and the
+/// lever arm given, or estimated when `auto`); also the final estimates.
+fn run_mount(rec: &Rec, spec: &FilterSpec, auto: bool) -> (Vec<Attitude>, Option<(Vec3, Vec3)>) {
+    let opts = MountOptions {
+        estimate_lever: auto,
+        lever_arm_m: if auto {
+            Vec3::zeros()
+        } else {
+            rec.lever.unwrap_or_else(Vec3::zeros)
+        },
+        ..Default::default()
+    };
+    run_pipeline(rec, Pipeline::new(*spec).with_mount_estimator(Some(opts)))
+}
+
+fn run_pipeline(rec: &Rec, mut p: Pipeline) -> (Vec<Attitude>, Option<(Vec3, Vec3)>) {
+    let est = rec
+        .samples
+        .iter()
+        .map(|s| p.update(s).attitude.unwrap_or_else(Attitude::identity))
+        .collect();
+    let m = p.mount_estimator().map(|m| (m.accel_bias(), m.lever_arm()));
+    (est, m)
+}
+
+fn run_offline(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
+    let gyr: Vec<Vec3> = rec.samples.iter().map(|s| s.gyr_rad_s).collect();
+    let acc: Vec<Vec3> = rec.samples.iter().map(|s| s.acc_m_s2).collect();
+    let t: Vec<f64> = rec.samples.iter().map(|s| s.t_s).collect();
+    let dt: Vec<f64> = (0..t.len())
+        .map(|k| {
+            if k == 0 {
+                nominal_dt(rec)
+            } else {
+                t[k] - t[k - 1]
+            }
+        })
+        .collect();
+    let params = match spec {
+        FilterSpec::Dynamic(p) => *p,
+        _ => Default::default(),
+    };
+    smooth(
+        &gyr,
+        &acc,
+        &dt,
+        &SmoothOptions {
+            params,
+            lever_arm_m: rec.lever,
+            ..Default::default()
+        },
+    )
+}
+
+/// A simulated recording of `motion` through `model`.
+fn simulate(
+    motion: &dyn Motion,
+    model: &ImuModel,
+    rate: f64,
+    seconds: f64,
+    seed: u64,
+    score_from: f64,
+    lever: Option<Vec3>,
+) -> Rec {
+    let samples = model.simulate(motion, rate, seconds, seed);
+    let truth = samples
+        .iter()
+        .map(|s| Some(motion.truth(s.t_s).attitude))
+        .collect();
+    let scored = samples.iter().map(|s| s.t_s >= score_from).collect();
+    Rec {
+        samples,
+        truth,
+        scored,
+        lever,
+    }
+}
+
+/// The sensor of a condition.
+#[derive(Clone, Copy, Debug)]
+enum Sensor {
+    /// MPU6050 noise, bandwidth and bias processes, both triads calibrated
+    /// ([`slewing::sensor`]: accelerometer bias ≤ 0.8 mg, scale ≤ 0.03 %).
+    Calibrated,
+    /// The calibrated sensor with the accelerometer reading 4 % low on every axis.
+    ScaleLow,
+    /// The calibrated sensor with accelerometer scale errors (+5, −5, +3) %.
+    ScaleMixed,
+    /// The calibrated sensor with an uncalibrated accelerometer bias (7, −10, 5) mg.
+    Bias,
+}
+
+impl Sensor {
+    fn name(self) -> &'static str {
+        match self {
+            Sensor::Calibrated => "cal",
+            Sensor::ScaleLow => "acc-4%",
+            Sensor::ScaleMixed => "acc±5%",
+            Sensor::Bias => "acc-bias10mg",
+        }
+    }
+    fn model(self, rate: f64) -> ImuModel {
+        let mut m = slewing::sensor();
+        // the sensor's anti-alias filter follows its output rate (DLPF ≤ 0.4·f_s)
+        m = m.with_bandwidth((0.4 * rate).min(98.0));
+        let mg = 1e-3 * clino::core::G0;
+        match self {
+            Sensor::Calibrated => {}
+            Sensor::ScaleLow => m.accel.scale = Vec3::repeat(-0.04),
+            Sensor::ScaleMixed => m.accel.scale = Vec3::new(0.05, -0.05, 0.03),
+            Sensor::Bias => m.accel.bias = Vec3::new(7.0, -10.0, 5.0) * mg,
+        }
+        m
+    }
+}
+
+/// The motion of a condition.
+#[derive(Clone, Copy, Debug)]
+enum Kind {
+    /// A segment moved by hand with rests ([`HandParams::by_hand`]).
+    Hand,
+    /// Slow robot-like motion under 0.35 rad/s with 2-s rests ([`HandParams::slow`]).
+    Slow,
+    /// The slow motion with vibration (linear 1.5 m/s², angular 2°/s).
+    SlowVib,
+    /// The hand motion with 1-s rests.
+    ShortRests,
+    /// The slewing excavator with the lever arm given.
+    Slewing,
+}
+
+impl Kind {
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Hand => "hand",
+            Kind::Slow => "slow",
+            Kind::SlowVib => "slow+vib",
+            Kind::ShortRests => "hand,rests1s",
+            Kind::Slewing => "slewing+lever",
+        }
+    }
+}
+
+struct Condition {
+    name: String,
+    kind: Kind,
+    sensor: Sensor,
+    rate: f64,
+}
+
+fn make(c: &Condition, seed: u64) -> Rec {
+    let model = c.sensor.model(c.rate);
+    let seconds = 120.0;
+    match c.kind {
+        Kind::Slewing => {
+            let m = SlewingPlatform {
+                chassis_heading: 0.7 + seed as f64,
+                vibration_hz: (0.35 * c.rate).min(30.0),
+                ..Default::default()
+            };
+            simulate(
+                &m,
+                &model,
+                c.rate,
+                seconds,
+                seed,
+                m.initial_rest_s,
+                Some(m.lever_arm_m),
+            )
+        }
+        Kind::Hand | Kind::Slow | Kind::SlowVib | Kind::ShortRests => {
+            let mut p = match c.kind {
+                Kind::Slow | Kind::SlowVib => HandParams::slow(),
+                _ => HandParams::by_hand(),
+            };
+            if let Kind::ShortRests = c.kind {
+                p.rest_s = 1.0;
+            }
+            let hand = HandMotion::new(p, seed);
+            let from = p.initial_rest_s;
+            if let Kind::SlowVib = c.kind {
+                let f = (0.35 * c.rate).min(30.0);
+                let w = 2.0 * std::f64::consts::PI * f;
+                let lin = Orbit {
+                    amplitude_m: Vec3::new(1.5, 1.0, 1.2) / (w * w),
+                    phase_rad: Vec3::new(0.0, 1.0, 2.0),
+                    omega_rad_s: w,
+                    attitude: Attitude::identity(),
+                    start_s: f64::NEG_INFINITY,
+                    ramp_s: 0.0,
+                };
+                let ang = Conical::new(ConeAxis::Z, 2f64.to_radians() / w, f);
+                let m = Sum {
+                    a: Sum { a: hand, b: lin },
+                    b: ang,
+                };
+                simulate(&m, &model, c.rate, seconds, seed, from, None)
+            } else {
+                simulate(&hand, &model, c.rate, seconds, seed, from, None)
+            }
+        }
+    }
+}
+
+/// The slewing machine with an uncalibrated accelerometer: the tilt with the
+/// lever arm given (without and with the bias estimator) and with
+/// `--lever-arm auto`, and the final estimates against the truth.
+fn slewing_estimates(seeds: u64, dynamic: &FilterSpec) {
+    println!(
+        "\nslewing machine, accelerometer bias (7, -10, 5) mg, 200 Hz, 120 s: inclination RMSE, final estimates"
+    );
+    println!(
+        "{:<6}{:>10}{:>11}{:>10}{:>12}{:>14}{:>14}",
+        "seed", "lever °", "+bias °", "auto °", "|Δb_xy| mg", "|Δr_xy| cm", "|Δr| cm"
+    );
+    let c = Condition {
+        name: String::new(),
+        kind: Kind::Slewing,
+        sensor: Sensor::Bias,
+        rate: 200.0,
+    };
+    let b_true = Sensor::Bias.model(200.0).accel.bias;
+    let r_true = SlewingPlatform::default().lever_arm_m;
+    let mut worst = [0.0f64; 3];
+    for seed in 1..=seeds {
+        let rec = make(&c, seed);
+        let lever = rmse(&rec, &run_clino(&rec, dynamic));
+        let (q, _) = run_mount(&rec, dynamic, false);
+        let bias = rmse(&rec, &q);
+        let (q, m) = run_mount(&rec, dynamic, true);
+        let auto = rmse(&rec, &q);
+        let (b, r) = m.unwrap_or((Vec3::repeat(f64::NAN), Vec3::repeat(f64::NAN)));
+        let db = (b - b_true).xy().norm() / (1e-3 * clino::core::G0);
+        let dr = (r - r_true).xy().norm() * 100.0;
+        let dr3 = (r - r_true).norm() * 100.0;
+        for (w, v) in worst.iter_mut().zip([lever, bias, auto]) {
+            *w = w.max(v);
+        }
+        println!("{seed:<6}{lever:>10.3}{bias:>11.3}{auto:>10.3}{db:>12.2}{dr:>14.1}{dr3:>14.1}");
+    }
+    println!(
+        "{:<6}{:>10.3}{:>11.3}{:>10.3}",
+        "worst", worst[0], worst[1], worst[2]
+    );
+}
+
+fn load_broad(path: &PathBuf) -> clino::Result<Rec> {
+    let mut r = ImuCsvReader::from_path(path, &ReadOptions::default())?;
+    let mut rec = Rec {
+        samples: vec![],
+        truth: vec![],
+        scored: vec![],
+        lever: None,
+    };
+    while let Some(row) = r.next_row()? {
+        rec.samples.push(row.sample);
+        rec.truth.push(row.ref_q);
+        rec.scored.push(row.movement.unwrap_or(false));
+    }
+    Ok(rec)
+}
+
+/// Scores of one recording: VQF, then each of `filters`, then offline dynamic.
+fn score(rec: &Rec, filters: &[FilterSpec], dynamic: &FilterSpec) -> Vec<f64> {
+    let mut out = vec![rmse(rec, &run_vqf(rec))];
+    for f in filters {
+        out.push(rmse(rec, &run_clino(rec, f)));
+    }
+    out.push(rmse(rec, &run_offline(rec, dynamic)));
+    out.push(rmse(rec, &run_mount(rec, dynamic, false).0));
+    out
+}
+
+fn main() -> clino::Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut seeds = 3u64;
+    let mut only: Option<String> = None;
+    let mut dynamic = FilterSpec::default();
+    let mut broad = clino_bench::broad_dir();
+    let mut i = 0;
+    while i < args.len() {
+        let val = || {
+            args.get(i + 1).cloned().ok_or_else(|| {
+                clino::Error::new(
+                    clino::ErrorKind::InvalidInput,
+                    format!("{} needs a value", args[i]),
+                )
+            })
+        };
+        match args[i].as_str() {
+            "--seeds" => {
+                seeds = val()?.parse().map_err(|_| {
+                    clino::Error::new(clino::ErrorKind::InvalidInput, "--seeds: a number")
+                })?;
+                i += 1;
+            }
+            "--only" => {
+                only = Some(val()?);
+                i += 1;
+            }
+            "--dynamic" => {
+                dynamic = parse_spec(&val()?)?;
+                i += 1;
+            }
+            "--broad" => {
+                broad = Some(PathBuf::from(val()?));
+                i += 1;
+            }
+            "--no-broad" => broad = None,
+            other => {
+                return Err(clino::Error::new(
+                    clino::ErrorKind::InvalidInput,
+                    format!("unknown argument {other}"),
+                ));
+            }
+        }
+        i += 1;
+    }
+    let mut filters: Vec<FilterSpec> = vec![dynamic];
+    for k in [
+        FilterKind::Mahony,
+        FilterKind::Madgwick,
+        FilterKind::Complementary,
+    ] {
+        filters.push(FilterSpec::default_for(k));
+    }
+    let names = [
+        "dynamic", "mahony", "madgwick", "complem.", "offline", "dyn+bias",
+    ];
+    let mut conditions = Vec::new();
+    for &rate in &[25.0, 100.0, 1000.0] {
+        for kind in [Kind::Hand, Kind::SlowVib, Kind::ShortRests] {
+            for sensor in [Sensor::Calibrated, Sensor::ScaleLow, Sensor::Bias] {
+                conditions.push(Condition {
+                    name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),
+                    kind,
+                    sensor,
+                    rate,
+                });
+            }
+        }
+    }
+    for (kind, sensor, rate) in [
+        (Kind::Hand, Sensor::Calibrated, 40.0),
+        (Kind::Hand, Sensor::ScaleMixed, 40.0),
+        (Kind::Slow, Sensor::ScaleLow, 125.0),
+        (Kind::SlowVib, Sensor::ScaleLow, 125.0),
+        (Kind::Slewing, Sensor::Calibrated, 200.0),
+        (Kind::Slewing, Sensor::Bias, 200.0),
+        (Kind::Slewing, Sensor::Bias, 50.0),
+    ] {
+        conditions.push(Condition {
+            name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),
+            kind,
+            sensor,
+            rate,
+        });
+    }
+    println!("dynamic: {}", clino::fusion::spec_text(&dynamic));
+    print!("{:<32}{:>8}", "condition (seeds)", "vqf °");
+    for n in names {
+        print!("{n:>20}");
+    }
+    println!();
+    println!("{:<40}{}", "", "   mean° ratio worst".repeat(names.len()));
+    let mut all_ratio: Vec<Vec<f64>> = vec![vec![]; names.len()];
+    let print_row = |label: &str, rows: &[Vec<f64>], all: &mut Vec<Vec<f64>>| {
+        let n = rows.len() as f64;
+        let mean = |j: usize| rows.iter().map(|r| r[j]).sum::<f64>() / n;
+        let v = mean(0);
+        print!("{label:<32}{v:>8.3}");
+        for j in 1..=names.len() {
+            let m = mean(j);
+            let worst = rows.iter().map(|r| r[j] / r[0]).fold(f64::NAN, f64::max);
+            all[j - 1].push(m / v);
+            print!("{m:>8.3}{:>6.2}{worst:>6.2}", m / v);
+        }
+        println!();
+    };
+    for c in &conditions {
+        if let Some(o) = &only
+            && !c.name.contains(o.as_str())
+        {
+            continue;
+        }
+        let rows: Vec<Vec<f64>> = (0..seeds)
+            .map(|s| score(&make(c, s + 1), &filters, &dynamic))
+            .collect();
+        print_row(&format!("{} ({seeds})", c.name), &rows, &mut all_ratio);
+    }
+    if let Some(d) = broad
+        && only.as_deref().is_none_or(|o| "broad".contains(o))
+    {
+        let paths = clino::eval::expand_paths(&[d])?;
+        let rows: Vec<Vec<f64>> = paths
+            .iter()
+            .map(|p| load_broad(p).map(|r| score(&r, &filters, &dynamic)))
+            .collect::<clino::Result<_>>()?;
+        for (p, r) in paths.iter().zip(&rows) {
+            let name = p
+                .file_name()
+                .map(|n| n.to_string_lossy().to_string())
+                .unwrap_or_default();
+            println!(
+                "  {name:<44}vqf {:.3}  dynamic {:.3} ({:.2})  offline {:.3}",
+                r[0],
+                r[1],
+                r[1] / r[0],
+                r[5]
+            );
+        }
+        print_row(&format!("BROAD ({})", rows.len()), &rows, &mut all_ratio);
+    }
+    if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
+        slewing_estimates(seeds, &dynamic);
+    }
+    print!("{:<40}", "largest mean ratio over the conditions");
+    for r in &all_ratio {
+        print!("{:>20.2}", r.iter().copied().fold(f64::NAN, f64::max));
+    }
+    println!();
+    Ok(())
+}

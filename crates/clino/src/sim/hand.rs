@@ -1,0 +1,382 @@
+//! Human-like (or slow robot-like) motion with rests: a seeded, smooth,
+//! bounded trajectory in attitude and position that stops and restarts.
+//!
+//! The generalisation harness of issue 13 needs motions of the kinds nobody
+//! tuned for: a segment of a chain moved by hand (turns of tens of degrees at
+//! a fraction of a hertz, rests of a few seconds at new poses), or a robot arm
+//! moving slowly (under 0.35 rad/s) between short rests. Both are made here
+//! from one construction:
+//!
+//! * a **motion clock** τ(t) that runs at rate e(t) ∈ [0, 1]: e = 0 during
+//!   rests, 1 while moving, with quintic smooth steps S(x) = 10x³ − 15x⁴ + 6x⁵
+//!   of `ramp_s` between them (so rate and acceleration are continuous). Its
+//!   integral is closed-form (∫S = 2.5x⁴ − 3x⁵ + x⁶), so τ, τ' = e and
+//!   τ'' = e' are exact;
+//! * z-y-x Euler angles (roll φ, pitch θ, yaw ψ) and a position, each an
+//!   offset plus a sum of three sines of the motion clock, with seeded
+//!   frequencies and phases: x(t) = s(τ(t)), ẋ = s'(τ)·e, ẍ = s''(τ)·e² + s'(τ)·e'.
+//!   Each rest is therefore at a new pose (the clock stops wherever it is);
+//! * the body rate of q = R_z(ψ)·R_y(θ)·R_x(φ) in closed form,
+//!   ω_b = (φ̇ − ψ̇·sin θ, θ̇·cos φ + ψ̇·cos θ·sin φ, −θ̇·sin φ + ψ̇·cos θ·cos φ),
+//!   and its exact time derivative (product rule on each term).
+//!
+//! Vibration (an engine, a gearbox, a tool) is added with
+//! [`super::motion::Sum`] of this motion and an [`super::motion::Orbit`]
+//! (linear) or a small [`super::motion::Conical`] (angular).
+
+use super::{Motion, Truth};
+use clino_core::{Attitude, Vec3};
+use nalgebra::UnitQuaternion;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
+
+/// One coordinate: offset + Σ aᵢ·sin(wᵢ·τ + φᵢ).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Sines {
+    offset: f64,
+    amp: [f64; 3],
+    w: [f64; 3],
+    phase: [f64; 3],
+}
+
+impl Sines {
+    /// Value, first and second derivative with respect to τ.
+    fn eval(&self, tau: f64) -> (f64, f64, f64) {
+        let (mut x, mut d1, mut d2) = (self.offset, 0.0, 0.0);
+        for i in 0..3 {
+            let (s, c) = (self.w[i] * tau + self.phase[i]).sin_cos();
+            x += self.amp[i] * s;
+            d1 += self.amp[i] * self.w[i] * c;
+            d2 -= self.amp[i] * self.w[i] * self.w[i] * s;
+        }
+        (x, d1, d2)
+    }
+
+    /// Seeded: three frequencies in [f_lo, f_hi] Hz, amplitudes summing to
+    /// `amplitude` (so |x − offset| ≤ amplitude).
+    fn seeded(rng: &mut ChaCha8Rng, offset: f64, amplitude: f64, f_lo: f64, f_hi: f64) -> Self {
+        let mut amp = [0.0; 3];
+        let mut w = [0.0; 3];
+        let mut phase = [0.0; 3];
+        let mut total = 0.0;
+        for i in 0..3 {
+            amp[i] = rng.random_range(0.3..1.0);
+            total += amp[i];
+            w[i] = 2.0 * PI * rng.random_range(f_lo..=f_hi);
+            phase[i] = rng.random_range(0.0..2.0 * PI);
+        }
+        for a in &mut amp {
+            *a *= amplitude / total;
+        }
+        Self {
+            offset,
+            amp,
+            w,
+            phase,
+        }
+    }
+
+    /// Largest |ds/dτ|: Σ aᵢ·wᵢ.
+    fn peak_rate(&self) -> f64 {
+        (0..3).map(|i| self.amp[i] * self.w[i]).sum()
+    }
+}
+
+/// Parameters of a [`HandMotion`] (angles in radians, lengths in metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HandParams {
+    /// Largest swing of roll and pitch about their offsets, rad.
+    pub tilt_amplitude_rad: f64,
+    /// Largest swing of yaw, rad.
+    pub yaw_amplitude_rad: f64,
+    /// Largest horizontal excursion of the sensor point, m (vertical: half).
+    pub position_amplitude_m: f64,
+    /// Band of the motion's frequencies (of the motion clock), Hz.
+    pub band_hz: (f64, f64),
+    /// Time moving between rests, s.
+    pub move_s: f64,
+    /// Time at rest between moves, s.
+    pub rest_s: f64,
+    /// Smooth-step ramp between rest and motion, s.
+    pub ramp_s: f64,
+    /// Rest before the first move, s.
+    pub initial_rest_s: f64,
+    /// Largest roll and pitch offset of the seeded poses, rad.
+    pub pose_tilt_rad: f64,
+}
+
+impl HandParams {
+    /// A segment of a chain moved by hand: ±35° tilt and ±60° yaw at
+    /// 0.15–0.8 Hz (peak rates of 1–3 rad/s), ±0.25 m, moves of 8 s, rests of 3 s.
+    pub fn by_hand() -> Self {
+        Self {
+            tilt_amplitude_rad: 35f64.to_radians(),
+            yaw_amplitude_rad: 60f64.to_radians(),
+            position_amplitude_m: 0.25,
+            band_hz: (0.15, 0.8),
+            move_s: 8.0,
+            rest_s: 3.0,
+            ramp_s: 0.5,
+            initial_rest_s: 5.0,
+            pose_tilt_rad: 30f64.to_radians(),
+        }
+    }
+
+    /// A robot arm moving slowly: ±20° tilt and ±40° yaw at 0.03–0.1 Hz
+    /// (peak rates of about 0.1–0.36 rad/s over seeds, the issue's "under
+    /// 0.35 rad/s"), ±0.1 m, moves of 12 s, rests of 2 s.
+    pub fn slow() -> Self {
+        Self {
+            tilt_amplitude_rad: 20f64.to_radians(),
+            yaw_amplitude_rad: 40f64.to_radians(),
+            position_amplitude_m: 0.1,
+            band_hz: (0.03, 0.1),
+            move_s: 12.0,
+            rest_s: 2.0,
+            ramp_s: 0.5,
+            initial_rest_s: 3.0,
+            pose_tilt_rad: 20f64.to_radians(),
+        }
+    }
+}
+
+/// A seeded human-like motion with rests (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HandMotion {
+    /// The parameters it was made from.
+    pub params: HandParams,
+    angles: [Sines; 3],
+    pos: [Sines; 3],
+}
+
+/// Quintic smooth step S(x), S'(x), and ∫₀ˣ S on [0, 1].
+fn step5(x: f64) -> (f64, f64, f64) {
+    let x = x.clamp(0.0, 1.0);
+    let (x2, x3) = (x * x, x * x * x);
+    (
+        x3 * (10.0 - 15.0 * x + 6.0 * x2),
+        30.0 * x2 * (1.0 - x) * (1.0 - x),
+        x2 * x2 * (2.5 - 3.0 * x + x2),
+    )
+}
+
+impl HandMotion {
+    /// The motion of `params` with frequencies, phases and poses from `seed`.
+    pub fn new(params: HandParams, seed: u64) -> Self {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x4a4d_4f54);
+        let (lo, hi) = params.band_hz;
+        let pt = params.pose_tilt_rad;
+        let roll0 = rng.random_range(-pt..=pt);
+        let pitch0 = rng.random_range(-pt..=pt);
+        let yaw0 = rng.random_range(-PI..PI);
+        let angles = [
+            Sines::seeded(&mut rng, roll0, params.tilt_amplitude_rad, lo, hi),
+            Sines::seeded(&mut rng, pitch0, params.tilt_amplitude_rad, lo, hi),
+            Sines::seeded(&mut rng, yaw0, params.yaw_amplitude_rad, lo, hi),
+        ];
+        let a = params.position_amplitude_m;
+        let pos = [
+            Sines::seeded(&mut rng, 0.0, a, lo, hi),
+            Sines::seeded(&mut rng, 0.0, a, lo, hi),
+            Sines::seeded(&mut rng, 0.0, 0.5 * a, lo, hi),
+        ];
+        Self {
+            params,
+            angles,
+            pos,
+        }
+    }
+
+    /// Upper bound of the body rate, rad/s (Σ of the Euler-rate peaks).
+    pub fn peak_rate_bound(&self) -> f64 {
+        self.angles.iter().map(|s| s.peak_rate()).sum()
+    }
+
+    /// The motion clock τ(t), its rate e(t) and e'(t).
+    pub fn clock(&self, t: f64) -> (f64, f64, f64) {
+        let p = &self.params;
+        let t = t - p.initial_rest_s;
+        if t <= 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let r = p.ramp_s.max(1e-9);
+        // one cycle: ramp up, move, ramp down, rest
+        let cycle = 2.0 * r + p.move_s + p.rest_s;
+        let per_cycle = r + p.move_s; // ∫e over a cycle (each ramp gives r/2)
+        let k = (t / cycle).floor();
+        let u = t - k * cycle;
+        let base = k * per_cycle;
+        if u < r {
+            let (s, ds, is) = step5(u / r);
+            (base + r * is, s, ds / r)
+        } else if u < r + p.move_s {
+            (base + 0.5 * r + (u - r), 1.0, 0.0)
+        } else if u < 2.0 * r + p.move_s {
+            let x = (u - r - p.move_s) / r;
+            let (s, ds, is) = step5(x);
+            (base + 0.5 * r + p.move_s + r * (x - is), 1.0 - s, -ds / r)
+        } else {
+            (base + per_cycle, 0.0, 0.0)
+        }
+    }
+
+    /// True while the mount is at rest (the motion clock stopped).
+    pub fn at_rest(&self, t: f64) -> bool {
+        self.clock(t).1 == 0.0
+    }
+}
+
+impl Motion for HandMotion {
+    fn truth(&self, t_s: f64) -> Truth {
+        let (tau, e, e1) = self.clock(t_s);
+        let chain = |s: &Sines| {
+            let (x, d1, d2) = s.eval(tau);
+            (x, d1 * e, d2 * e * e + d1 * e1)
+        };
+        let (phi, dphi, ddphi) = chain(&self.angles[0]);
+        let (th, dth, ddth) = chain(&self.angles[1]);
+        let (psi, dpsi, ddpsi) = chain(&self.angles[2]);
+        let attitude: Attitude = UnitQuaternion::from_euler_angles(phi, th, psi);
+        let (sp, cp) = phi.sin_cos();
+        let (st, ct) = th.sin_cos();
+        let gyr = Vec3::new(
+            dphi - dpsi * st,
+            dth * cp + dpsi * ct * sp,
+            -dth * sp + dpsi * ct * cp,
+        );
+        let ang_acc = Vec3::new(
+            ddphi - ddpsi * st - dpsi * dth * ct,
+            ddth * cp - dth * dphi * sp + ddpsi * ct * sp - dpsi * dth * st * sp
+                + dpsi * dphi * ct * cp,
+            -ddth * sp - dth * dphi * cp + ddpsi * ct * cp
+                - dpsi * dth * st * cp
+                - dpsi * dphi * ct * sp,
+        );
+        let mut pos = Vec3::zeros();
+        let mut vel = Vec3::zeros();
+        let mut acc = Vec3::zeros();
+        for i in 0..3 {
+            let (x, v, a) = chain(&self.pos[i]);
+            pos[i] = x;
+            vel[i] = v;
+            acc[i] = a;
+        }
+        Truth {
+            t_s,
+            attitude,
+            gyr_rad_s: gyr,
+            ang_acc_rad_s2: ang_acc,
+            pos_m: pos,
+            vel_m_s: vel,
+            acc_m_s2: acc,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn truth_is_the_derivative_of_itself() {
+        for params in [HandParams::by_hand(), HandParams::slow()] {
+            let m = HandMotion::new(params, 3);
+            let h = 1e-6;
+            let mut t = 0.0;
+            while t < 60.0 {
+                let (a, tr, b) = (m.truth(t - h), m.truth(t), m.truth(t + h));
+                let w_fd = (a.attitude.inverse() * b.attitude).scaled_axis() / (2.0 * h);
+                assert_relative_eq!(w_fd, tr.gyr_rad_s, epsilon = 1e-6);
+                let wd_fd = (b.gyr_rad_s - a.gyr_rad_s) / (2.0 * h);
+                assert_relative_eq!(wd_fd, tr.ang_acc_rad_s2, epsilon = 1e-4);
+                assert_relative_eq!((b.pos_m - a.pos_m) / (2.0 * h), tr.vel_m_s, epsilon = 1e-6);
+                assert_relative_eq!(
+                    (b.vel_m_s - a.vel_m_s) / (2.0 * h),
+                    tr.acc_m_s2,
+                    epsilon = 1e-4
+                );
+                t += 0.173;
+            }
+        }
+    }
+
+    #[test]
+    fn rests_are_still_and_at_new_poses() {
+        let p = HandParams::by_hand();
+        let m = HandMotion::new(p, 9);
+        let cycle = 2.0 * p.ramp_s + p.move_s + p.rest_s;
+        let mut poses = Vec::new();
+        for k in 0..4 {
+            // the middle of the k-th rest after the first move
+            let t = p.initial_rest_s + (k + 1) as f64 * cycle - 0.5 * p.rest_s;
+            assert!(m.at_rest(t));
+            let tr = m.truth(t);
+            assert_eq!(tr.gyr_rad_s, Vec3::zeros());
+            assert_eq!(tr.acc_m_s2, Vec3::zeros());
+            poses.push(tr.attitude);
+        }
+        assert!(poses[0].angle_to(&poses[1]) > 1e-3 && poses[1].angle_to(&poses[2]) > 1e-3);
+    }
+
+    #[test]
+    fn slow_motion_is_slow() {
+        for seed in 0..8 {
+            let m = HandMotion::new(HandParams::slow(), seed);
+            let peak = (0..20000)
+                .map(|k| m.truth(k as f64 * 0.01).gyr_rad_s.norm())
+                .fold(0.0, f64::max);
+            // seed 3 peaks at 0.354 rad/s for an instant
+            assert!(peak < 0.36 && peak > 0.05, "seed {seed}: {peak}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod filter_tests {
+    use super::*;
+    use crate::eval::{Rms, inclination_error};
+    use crate::sim::motion::{ConeAxis, Conical, Orbit, Sum};
+    use clino_core::Vec3;
+    use clino_core::filter::FilterSpec;
+    use clino_core::pipeline::Pipeline;
+
+    #[test]
+    fn dynamic_holds_the_tilt_of_a_slow_vibrating_robot_arm() {
+        // Issue 13's robot arm: 125 Hz, accelerometer reading 4 % low,
+        // motion under 0.35 rad/s between 2-s rests, 1.5 m/s² of linear and
+        // 2°/s of angular vibration at 30 Hz. With the rest detection of
+        // commit 24815aa the slow motion passed for rest and was learnt as gyro
+        // bias: 2.14° here (the generalisation harness, seed 1, before the fix);
+        // VQF gives 0.08°; now ≈ 0.1°.
+        let hand = HandMotion::new(HandParams::slow(), 1);
+        let f = 30.0;
+        let w = 2.0 * PI * f;
+        let lin = Orbit {
+            amplitude_m: Vec3::new(1.5, 1.0, 1.2) / (w * w),
+            phase_rad: Vec3::new(0.0, 1.0, 2.0),
+            omega_rad_s: w,
+            attitude: Attitude::identity(),
+            start_s: f64::NEG_INFINITY,
+            ramp_s: 0.0,
+        };
+        let m = Sum {
+            a: Sum { a: hand, b: lin },
+            b: Conical::new(ConeAxis::Z, 2f64.to_radians() / w, f),
+        };
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(50.0);
+        model.accel.scale = Vec3::repeat(-0.04);
+        let s = model.simulate(&m, 125.0, 120.0, 1);
+        let mut p = Pipeline::new(FilterSpec::default());
+        let mut rms = Rms::default();
+        for smp in &s {
+            let q = p.update(smp).attitude.unwrap_or_else(Attitude::identity);
+            if smp.t_s > hand.params.initial_rest_s {
+                rms.push(inclination_error(&q, &m.truth(smp.t_s).attitude));
+            }
+        }
+        let e = rms.value().to_degrees();
+        assert!(e < 0.2, "{e}°");
+    }
+}
