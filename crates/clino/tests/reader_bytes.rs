@@ -54,3 +54,11 @@ proptest! {
         common::readers::read_everything(&b);
     }
 }
+
+/// Inputs cargo-fuzz found (`fuzz/`), kept as regressions.
+#[test]
+fn fuzz_regressions() {
+    // a header of 0xFF bytes: each decodes to a 3-byte U+FFFD, and the
+    // missing-column message listed 1.2 kB of it
+    common::readers::read_everything(include_bytes!("fuzz_regressions/long_binary_header.bin"));
+}

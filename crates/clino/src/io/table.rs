@@ -264,26 +264,32 @@ impl<R: Read> TableReader<R> {
     }
 
     /// The header names for a message: at most 30 names of at most 40
-    /// characters each (a binary file read as CSV has a "header" of kilobytes).
+    /// characters each and 200 characters in all (a binary file read as CSV
+    /// has a "header" of kilobytes).
     fn header_list(&self) -> String {
         const NAMES: usize = 30;
         const CHARS: usize = 40;
-        let mut out: Vec<String> = self
-            .header
-            .iter()
-            .take(NAMES)
-            .map(|h| {
-                if h.chars().count() > CHARS {
-                    format!("{}…", h.chars().take(CHARS).collect::<String>())
-                } else {
-                    h.clone()
-                }
-            })
-            .collect();
-        if self.header.len() > NAMES {
-            out.push(format!("… ({} names in all)", self.header.len()));
+        const TOTAL: usize = 200;
+        let mut out = String::new();
+        let mut chars = 0;
+        for (i, h) in self.header.iter().enumerate() {
+            let name: String = h.chars().take(CHARS).collect();
+            let cut = name.chars().count() < h.chars().count();
+            let n = name.chars().count() + usize::from(cut) + 1;
+            if i == NAMES || chars + n > TOTAL {
+                out.push_str(&format!(",… ({} names in all)", self.header.len()));
+                break;
+            }
+            if i > 0 {
+                out.push(',');
+            }
+            out.push_str(&name);
+            if cut {
+                out.push('…');
+            }
+            chars += n;
         }
-        out.join(",")
+        out
     }
 
     /// The error for a missing column `name`, with a hint.
