@@ -891,7 +891,7 @@ static void run_scenario(const char *elf, const char *outdir, const scenario_t *
         else if (!strcmp(c->what, "REQUEST_CONFIG"))
             check_ack(&fr, s, i, PROTO_REQUEST_CONFIG, 0, 1);
         else if (!strcmp(c->what, "SET_DIALS"))
-            check_ack(&fr, s, i, PROTO_SET_DIALS, 0, 1);
+            check_ack(&fr, s, i, PROTO_SET_DIALS, 0, 0); /* no CONFIG after SET_DIALS */
         else if (!strcmp(c->what, "SET_DIALS 95 deg"))
             check_ack(&fr, s, i, PROTO_SET_DIALS, 1, 0);
         else if (!strcmp(c->what, "SET_RANGES 3 g"))

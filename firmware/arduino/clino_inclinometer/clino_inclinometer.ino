@@ -23,7 +23,8 @@
  *    asked for; seq goes on counting the instants missed.
  *  - Host commands (REQUEST_CONFIG, SET_RATE, SET_RANGES, START, STOP,
  *    SET_DIALS) are answered by an ACK; CONFIG follows at boot, on
- *    REQUEST_CONFIG and after every accepted SET_* command.
+ *    REQUEST_CONFIG and after an accepted SET_RATE or SET_RANGES (not after
+ *    SET_DIALS, which a host sends about ten times a second: PROTOCOL.md).
  *  - Between samples the CPU sleeps (idle mode). Pin 4 (PD4) is high while
  *    the main loop works on a sample and pin 7 (PD7) while the filter runs:
  *    test points for the cycle budget (firmware/simavr measures them). They
@@ -294,7 +295,6 @@ static void handle_command(void)
         host_dials = 1;
         host_dials_ms = millis();
         send_ack(t, PROTO_ACK_OK);
-        send_config();
         break;
     }
     default: /* a board -> host type sent to the board */
