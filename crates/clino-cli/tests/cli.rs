@@ -402,3 +402,16 @@ fn a_negative_gain_is_a_value_with_a_range_error_not_an_unknown_flag() {
     assert!(e.contains("[0, 1])"), "{e}");
     assert!(!e.contains("unexpected argument"), "{e}");
 }
+
+#[test]
+fn demo_json_gives_the_scores_as_numbers() {
+    let o = clino(&["demo", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let scores = v["fusion"]["scores"].as_array().unwrap();
+    assert_eq!(scores.len(), 5);
+    for s in scores {
+        assert!(s["rmse_deg"].as_f64().unwrap() > 0.0, "{s}");
+    }
+    assert_eq!(v["sections"].as_array().unwrap().len(), 6);
+}

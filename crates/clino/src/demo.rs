@@ -52,10 +52,45 @@ pub fn summary() -> Result<String> {
     Ok(out)
 }
 
-/// The fusion section: every filter at its defaults on the embedded BROAD
-/// excerpt ([`BROAD_EXCERPT`]), scored with the BROAD inclination error
-/// ([`crate::eval`]). Deterministic, well under a second.
-pub fn fusion_summary() -> Result<String> {
+/// One section of the demo as `clino demo --json` gives it: its title and
+/// its text, line by line.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SectionReport {
+    /// The section's title.
+    pub title: &'static str,
+    /// Its text, one entry per line.
+    pub lines: Vec<String>,
+}
+
+/// The demo for programs (`clino demo --json`): the headline scores as
+/// numbers, and every section's text.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct DemoReport {
+    /// Section 1 as numbers: every filter at its defaults on the embedded
+    /// BROAD excerpt, scored against the optical reference.
+    pub fusion: crate::eval::RecordingScore,
+    /// Every section, in order.
+    pub sections: Vec<SectionReport>,
+}
+
+/// The whole demo as data ([`DemoReport`]).
+pub fn report() -> Result<DemoReport> {
+    let (_, fusion, _) = fusion_scores()?;
+    let sections = SECTIONS
+        .iter()
+        .map(|(title, f)| {
+            Ok(SectionReport {
+                title,
+                lines: f()?.lines().map(str::to_string).collect(),
+            })
+        })
+        .collect::<Result<_>>()?;
+    Ok(DemoReport { fusion, sections })
+}
+
+/// Every filter at its defaults scored on the embedded BROAD excerpt: the
+/// configurations, the scores and the rows read.
+fn fusion_scores() -> Result<(Vec<FilterConfig>, crate::eval::RecordingScore, u64)> {
     let mut reader = ImuCsvReader::new(
         BROAD_EXCERPT.as_bytes(),
         "broad_07_excerpt.csv",
@@ -66,7 +101,15 @@ pub fn fusion_summary() -> Result<String> {
         .map(|k| FilterConfig::new(*k))
         .collect();
     let rec = crate::eval::score_reader(&mut reader, &configs)?;
-    let secs = reader.rows_read() as f64 / 285.714;
+    Ok((configs, rec, reader.rows_read()))
+}
+
+/// The fusion section: every filter at its defaults on the embedded BROAD
+/// excerpt ([`BROAD_EXCERPT`]), scored with the BROAD inclination error
+/// ([`crate::eval`]). Deterministic, well under a second.
+pub fn fusion_summary() -> Result<String> {
+    let (configs, rec, rows_read) = fusion_scores()?;
+    let secs = rows_read as f64 / 285.714;
     let mut s = format!(
         "Attitude filters on {:.0} s of real IMU data (BROAD trial 07, fast rotation, {} rows at 285.7 Hz),\n\
          scored against optical motion capture: inclination RMSE over the {} moving samples.\n\n",
@@ -106,5 +149,19 @@ mod tests {
             assert!(s.contains(k.name()), "{s}");
         }
         assert_eq!(s, super::fusion_summary().unwrap());
+    }
+
+    #[test]
+    fn the_report_holds_the_scores_as_numbers_and_every_section() {
+        let r = super::report().unwrap();
+        assert_eq!(r.sections.len(), super::SECTIONS.len());
+        assert_eq!(r.fusion.scores.len(), crate::fusion::FilterKind::ALL.len());
+        // the numbers are those the text shows
+        let text = super::fusion_summary().unwrap();
+        for sc in &r.fusion.scores {
+            assert!(sc.rmse_deg.is_finite() && sc.rmse_deg > 0.0);
+            assert!(text.contains(&format!("{:.2} °", sc.rmse_deg)), "{text}");
+        }
+        assert_eq!(r.sections[0].lines.join("\n") + "\n", text);
     }
 }

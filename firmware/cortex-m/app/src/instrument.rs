@@ -168,6 +168,7 @@ mod tests {
     use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as T};
     extern crate std;
     use std::vec;
+    use std::vec::Vec;
 
     /// A PWM channel that keeps its duty (max 20 000: one count per µs).
     #[derive(Debug, Default)]
@@ -239,6 +240,26 @@ mod tests {
         }
     }
 
+    /// A UART that keeps what is written.
+    #[derive(Default)]
+    struct Wire {
+        bytes: Vec<u8>,
+    }
+
+    impl embedded_io::ErrorType for Wire {
+        type Error = core::convert::Infallible;
+    }
+
+    impl embedded_io::Write for Wire {
+        fn write(&mut self, b: &[u8]) -> Result<usize, Self::Error> {
+            self.bytes.extend_from_slice(b);
+            Ok(b.len())
+        }
+        fn flush(&mut self) -> Result<(), Self::Error> {
+            Ok(())
+        }
+    }
+
     #[test]
     fn live_step_polls_reads_steps_and_numbers_frames() {
         let level = RawSample {
@@ -260,8 +281,7 @@ mod tests {
         ]);
         let mut src = Mpu6050Source::new(Mpu6050::new(bus.clone(), Address::Ad0Low), Clock(0));
         let mut ins = instrument();
-        let mut wire = [0u8; 64];
-        let mut tx: &mut [u8] = &mut wire;
+        let mut tx = Wire::default();
         let mut seq = u16::MAX;
         assert_eq!(
             live_step(&mut src, &mut ins, &mut tx, &mut seq),
@@ -277,8 +297,16 @@ mod tests {
         };
         assert_eq!(reading.t_us, 10_000);
         assert_eq!(output.status, Status::Initialised);
-        assert!(!sent); // the protocol is not wired yet: nothing written
-        assert_eq!(tx.len(), 64); // nothing consumed
+        // the SAMPLE frame went out as the protocol encodes it
+        assert!(sent);
+        let mut frames = Vec::new();
+        clino_core::protocol::Decoder::default().feed(&tx.bytes, |d| frames.push(d.result));
+        match frames.as_slice() {
+            [Ok(clino_core::protocol::Frame::Sample(s))] => {
+                assert_eq!((s.seq, s.t_us, s.acc), (u16::MAX, 10_000, [0, 0, 16384]));
+            }
+            other => panic!("{other:?}"),
+        }
         assert_eq!(seq, 0); // wrapped
         assert_eq!(ins.roll_dial().pulse_us(), Some(1472)); // level
         assert_eq!(

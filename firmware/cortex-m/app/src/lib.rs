@@ -13,7 +13,7 @@
 //! * [`dials`] — a hobby servo on a PWM channel
 //!   ([`embedded_hal::pwm::SetDutyCycle`]) showing an angle;
 //! * [`serial`] — the one function that sends the wire protocol's frames
-//!   (the integration point for `clino_core::protocol`);
+//!   (encoded by `clino_core::protocol`);
 //! * [`results`] — the record the QEMU build writes per sample, so the host
 //!   can compare it with its own pipeline.
 #![no_std]

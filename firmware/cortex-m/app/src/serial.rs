@@ -4,6 +4,7 @@
 //! SAMPLE (0x02) payloads (protocol v1, `firmware/protocol/PROTOCOL.md`).
 //! [`send_frame`] is the one place where they become bytes on the UART.
 
+use clino_core::protocol;
 use clino_mpu6050::{Config, RawSample};
 
 /// The protocol's board identifier of this firmware (2 = Cortex-M4F example).
@@ -47,17 +48,41 @@ pub fn fw_version() -> (u8, u8, u8) {
     )
 }
 
-/// Send one frame on the serial link.
-///
-/// **INTEGRATION POINT — `clino_core::protocol` (issue 11).** This function
-/// will encode `frame` with `clino_core::protocol` (type byte, payload,
-/// CRC-16/CCITT-FALSE, COBS, 0x00 delimiter) and `tx.write_all` the bytes;
-/// that module is being written on another branch and the integrator wires
-/// it here. Until then nothing is sent and the function returns `Ok(false)`,
-/// so a caller can tell (and count) that the link is not wired; it returns
-/// `Ok(true)` once a frame has really been written.
+/// The frame in the protocol's own type (`clino_core::protocol::Frame`).
+pub fn to_protocol(frame: &Frame) -> protocol::Frame {
+    match *frame {
+        Frame::Config { config, streaming } => {
+            let (major, minor, patch) = fw_version();
+            protocol::Frame::Config(protocol::Config {
+                proto_version: PROTO_VERSION,
+                firmware: [major, minor, patch],
+                board: BOARD_ID,
+                rate_hz: rate_hz(&config),
+                accel_fs_g: config.accel_range.g(),
+                gyro_fs_dps: config.gyro_range.dps(),
+                dlpf_cfg: config.dlpf.cfg(),
+                streaming: u8::from(streaming),
+            })
+        }
+        Frame::Sample { seq, t_us, raw } => protocol::Frame::Sample(protocol::Sample {
+            seq,
+            t_us,
+            acc: raw.accel,
+            temp: raw.temp,
+            gyr: raw.gyro,
+        }),
+    }
+}
+
+/// Send one frame on the serial link: encoded by `clino_core::protocol`
+/// (type byte, payload, CRC-16/CCITT-FALSE, COBS, 0x00 delimiter) and
+/// written whole. Returns `Ok(true)` once the bytes are written.
 pub fn send_frame<W: embedded_io::Write>(tx: &mut W, frame: &Frame) -> Result<bool, W::Error> {
-    // INTEGRATOR: let bytes = clino_core::protocol::encode(...frame...); tx.write_all(&bytes)?; Ok(true)
-    let _ = (tx, frame);
-    Ok(false)
+    let mut buf = [0u8; protocol::MAX_FRAME];
+    // a CONFIG or SAMPLE always fits MAX_FRAME (the protocol's own bound)
+    let Ok(n) = protocol::encode(&to_protocol(frame), &mut buf) else {
+        return Ok(false);
+    };
+    tx.write_all(&buf[..n])?;
+    Ok(true)
 }
