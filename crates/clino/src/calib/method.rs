@@ -3,7 +3,7 @@
 //!
 //! * accelerometer: static poses ([`detect_static`](super::detect_static)),
 //!   then the multi-position fit of a model ([`fit`](super::fit)) or the
-//!   six-position method ([`six`](super::six));
+//!   six-position method ([`six`]);
 //! * gyro: a rate-table fit when the recording has the `ref_gyr_*_rad_s`
 //!   columns ([`gyro::rate_table`]), else rotations between static poses
 //!   ([`gyro::from_rotations`], matrix model only);

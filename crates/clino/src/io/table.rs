@@ -155,7 +155,7 @@ impl TableReader<std::fs::File> {
 pub const QUOTE_MAX_CHARS: usize = 60;
 
 /// A cell as an error message quotes it: trimmed, lossy UTF-8, in quotes,
-/// cut to [`QUOTE_MAX_CHARS`] characters with its length in bytes when longer
+/// cut to 60 characters (`QUOTE_MAX_CHARS`) with its length in bytes when longer
 /// (a corrupted 5 MB cell must not become a 5 MB message).
 pub fn quote_cell(cell: &[u8]) -> String {
     let text = String::from_utf8_lossy(cell.trim_ascii());
