@@ -778,6 +778,7 @@ fn summarize(
         strict: false,
         calibration: cal.as_ref(),
         flush_rows: false,
+        progress: None,
     };
     let res = if source.is_instance_of::<PyString>() || source.hasattr("__fspath__")? {
         let path: PathBuf = source.extract()?;

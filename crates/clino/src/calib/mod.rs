@@ -98,7 +98,7 @@ pub fn entry(
 
 /// Accelerometer calibration of a continuous recording: static detection, then
 /// the multi-position fit of `model` (using `ref_inclination_deg` when present).
-pub(crate) fn calibrate_accel(
+pub fn calibrate_accel(
     rec: &Recording,
     model: ModelKind,
     statics: &StaticOptions,
@@ -121,11 +121,7 @@ pub(crate) fn calibrate_accel(
 /// samples (at most 3000, evenly decimated). `field_ut` is the local field
 /// magnitude; when `None` the mean raw magnitude about the centre is used (the
 /// scale of a magnetometer is not observable from its own data).
-pub(crate) fn calibrate_mag(
-    rec: &Recording,
-    model: ModelKind,
-    field_ut: Option<f64>,
-) -> Result<TriadFit> {
+pub fn calibrate_mag(rec: &Recording, model: ModelKind, field_ut: Option<f64>) -> Result<TriadFit> {
     let mag = rec.mag.as_ref().ok_or_else(|| {
         rec.error(
             ErrorKind::MissingColumn,
