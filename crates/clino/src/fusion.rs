@@ -635,7 +635,7 @@ pub struct FuseOptions<'a> {
     /// row is seen when its input row arrives).
     pub flush_rows: bool,
     /// Told how far a long run has got ([`FuseProgress`]).
-    pub progress: Option<&'a dyn Fn(FuseProgress)>,
+    pub progress: Option<&'a (dyn Fn(FuseProgress) + Sync)>,
 }
 
 impl std::fmt::Debug for FuseOptions<'_> {
