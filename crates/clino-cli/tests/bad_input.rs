@@ -4,20 +4,13 @@
 //! panic, never a message that echoes megabytes, never a half-written output.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn clino(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_clino"))
-        .args(args)
-        .output()
-        .expect("run clino")
-}
+use common::clino;
+use std::process::Output;
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("clino-bad-input-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("bad-input", name)
 }
 
 const EXCERPT: &str = include_str!("../../clino/data/broad_07_excerpt.csv");
@@ -321,36 +314,7 @@ fn commands(dir: &Path) -> Vec<Cmd> {
         .map(|l| format!("{l}\n"))
         .collect();
     // accelerometer poses (12 of them), as in the one-reader test
-    let mut accel = String::from("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n");
-    let g = 9.80665;
-    let poses = [
-        [g, 0.0, 0.0],
-        [-g, 0.0, 0.0],
-        [0.0, g, 0.0],
-        [0.0, -g, 0.0],
-        [0.0, 0.0, g],
-        [0.0, 0.0, -g],
-        [g * 0.6, g * 0.8, 0.0],
-        [0.0, -g * 0.6, g * 0.8],
-        [g * 0.8, 0.0, -g * 0.6],
-        [-g * 0.48, g * 0.6, g * 0.64],
-        [g * 0.36, -g * 0.48, -g * 0.8],
-        [-g * 0.8, -g * 0.36, g * 0.48],
-    ];
-    let mut t = 0.0;
-    for p in poses {
-        for k in 0..200 {
-            let n = 1e-3 * ((k * 7919) % 13) as f64;
-            accel.push_str(&format!(
-                "{t},{},{},{}\n",
-                1.01 * p[0] + 0.05 + n,
-                0.99 * p[1] - 0.03,
-                p[2] + 0.02 - n
-            ));
-            t += 0.01;
-        }
-        t += 1.0;
-    }
+    let accel = common::accel_poses_csv();
     // gyro on a rate table: ±0.5, ±1 rad/s about each axis
     let mut gyro = String::from(
         "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,ref_gyr_x_rad_s,ref_gyr_y_rad_s,ref_gyr_z_rad_s\n",

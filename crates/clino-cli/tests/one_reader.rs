@@ -2,15 +2,11 @@
 //! a byte-order mark or CRLF line endings change nothing; one reader, one set
 //! of rules.
 
+mod common;
+
+use common::clino;
 use std::path::PathBuf;
 use std::process::Command;
-
-fn clino(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_clino"))
-        .args(args)
-        .output()
-        .expect("run clino")
-}
 
 /// The same content under the same file name in two directories: plain, and
 /// with a BOM, comment lines before the header and between rows, and CRLF.
@@ -98,36 +94,7 @@ fn fuse_eval_allan_and_static_ignore_comments_bom_and_crlf() {
 #[test]
 fn calibration_and_survey_recordings_read_comments_too() {
     // a `#` line used to make `calibrate` say "the recording needs a time column"
-    let mut rec = String::from("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n");
-    let g = 9.80665;
-    let poses = [
-        [g, 0.0, 0.0],
-        [-g, 0.0, 0.0],
-        [0.0, g, 0.0],
-        [0.0, -g, 0.0],
-        [0.0, 0.0, g],
-        [0.0, 0.0, -g],
-        [g * 0.6, g * 0.8, 0.0],
-        [0.0, -g * 0.6, g * 0.8],
-        [g * 0.8, 0.0, -g * 0.6],
-        [-g * 0.48, g * 0.6, g * 0.64],
-        [g * 0.36, -g * 0.48, -g * 0.8],
-        [-g * 0.8, -g * 0.36, g * 0.48],
-    ];
-    let mut t = 0.0;
-    for p in poses {
-        for k in 0..200 {
-            let n = 1e-3 * ((k * 7919) % 13) as f64;
-            rec.push_str(&format!(
-                "{t},{},{},{}\n",
-                1.01 * p[0] + 0.05 + n,
-                0.99 * p[1] - 0.03,
-                p[2] + 0.02 - n
-            ));
-            t += 0.01;
-        }
-        t += 1.0;
-    }
+    let rec = common::accel_poses_csv();
     let (a, b) = variants("calib", &rec);
     same_output(
         &["calibrate", "accel", "{}", "--output", "{out}", "--json"],
