@@ -426,6 +426,12 @@ fn commands(dir: &Path) -> Vec<Cmd> {
     };
     vec![
         cmd("fuse", s(&["fuse", "{in}", "-o", "{out}.csv"]), &imu, 1),
+        cmd(
+            "fuse --offline",
+            s(&["fuse", "{in}", "--offline", "-o", "{out}.parquet"]),
+            &imu,
+            1,
+        ),
         cmd("eval", s(&["eval", "{in}", "-f", "mahony"]), &imu, 1),
         cmd("allan", s(&["allan", "{in}"]), &imu, 1),
         cmd(

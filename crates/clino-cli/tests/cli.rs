@@ -422,14 +422,34 @@ fn lever_arm_auto_estimates_and_changes_the_result_and_jobs_keep_the_table() {
     let input = write(&d, "in.csv", excerpt());
     let plain = clino(&["fuse", &input]);
     let auto = clino(&["fuse", &input, "--lever-arm", "auto"]);
-    assert!(plain.status.success() && auto.status.success(), "{}", stderr(&auto));
+    assert!(
+        plain.status.success() && auto.status.success(),
+        "{}",
+        stderr(&auto)
+    );
     // the estimate is reported with its 1σ, and the compensation changes the attitudes
     let e = stderr(&auto);
     assert!(e.contains("lever arm (") && e.contains("(1σ"), "{e}");
     assert_ne!(plain.stdout, auto.stdout);
     // one job or two: the same table, in the same order
-    let one = clino(&["eval", &input, &input, "-f", "mahony,dynamic", "--jobs", "1"]);
-    let two = clino(&["eval", &input, &input, "-f", "mahony,dynamic", "--jobs", "2"]);
+    let one = clino(&[
+        "eval",
+        &input,
+        &input,
+        "-f",
+        "mahony,dynamic",
+        "--jobs",
+        "1",
+    ]);
+    let two = clino(&[
+        "eval",
+        &input,
+        &input,
+        "-f",
+        "mahony,dynamic",
+        "--jobs",
+        "2",
+    ]);
     assert!(one.status.success(), "{}", stderr(&one));
     assert_eq!(one.stdout, two.stdout);
 }
