@@ -155,9 +155,10 @@ struct MagArgs {
 struct Apply {
     /// Calibration file (TOML).
     calibration: PathBuf,
-    /// Recording (CSV).
+    /// Recording (CSV, or Parquet by the `.parquet` extension).
     recording: PathBuf,
-    /// Output recording (CSV, same columns).
+    /// Output recording, same columns: CSV, or Parquet when the name ends in `.parquet`
+    /// (written under a temporary name and renamed: a failed run leaves nothing half-written).
     #[arg(short, long)]
     output: PathBuf,
     /// Apply models outside their valid temperature range.
@@ -209,10 +210,7 @@ fn apply(p: Apply) -> Result<()> {
     cal.extrapolate = p.extrapolate;
     let mut rec = Recording::load(&p.recording)?;
     cal.apply_recording(&mut rec)?;
-    let f = std::fs::File::create(&p.output)
-        .with_context(|| format!("cannot create {}", p.output.display()))?;
-    rec.write_csv(std::io::BufWriter::new(f))
-        .map_err(|e| e.in_file(&p.output))?;
+    rec.save(&p.output, &[&p.recording, &p.calibration])?;
     eprintln!("wrote {} rows to {}", rec.len(), p.output.display());
     Ok(())
 }

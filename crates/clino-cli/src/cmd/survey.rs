@@ -25,26 +25,19 @@ pub struct Args {
 
 /// Run `clino survey`.
 pub fn run(a: Args) -> Result<()> {
-    let mut readings = survey::read_stations(&a.stations)?;
-    if let Some(p) = &a.calibration {
-        let mut cal = clino::calib::CalibrationFile::load(p)?;
-        cal.extrapolate = a.extrapolate;
-        survey::calibrate_readings(&mut readings, &cal).map_err(|e| e.in_file(&a.stations))?;
-    }
-    let report = survey::survey(
-        &readings,
-        &SurveyOptions {
-            declination_deg: a.declination_deg,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| {
-        if e.file.is_none() {
-            e.in_file(&a.stations)
-        } else {
-            e
+    let cal = match &a.calibration {
+        Some(p) => {
+            let mut cal = clino::calib::CalibrationFile::load(p)?;
+            cal.extrapolate = a.extrapolate;
+            Some(cal)
         }
-    })?;
+        None => None,
+    };
+    let opts = SurveyOptions {
+        declination_deg: a.declination_deg,
+        ..Default::default()
+    };
+    let report = survey::survey_file(&a.stations, cal.as_ref(), &opts)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

@@ -349,13 +349,7 @@ fn static_cmd(s: StaticArgs) -> anyhow::Result<()> {
 fn lab_analysis(a: AnalyzeArgs) -> anyhow::Result<()> {
     let exc = a.excitation.into();
     let t = Table::read(&a.recording)?;
-    let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s).map_err(|e| {
-        if e.file.is_none() {
-            e.in_file(&a.recording)
-        } else {
-            e
-        }
-    })?;
+    let r = analyze(&t, exc, &Geometry::typical(), a.freq_hz, a.skip_s)?;
     print_result(a.json, &r, || text::lab_analysis(&r, exc))
 }
 

@@ -300,17 +300,14 @@ impl Recording {
         c
     }
 
-    /// Write the recording as CSV with its original columns; the triad
-    /// columns hold the current values of `acc`, `gyr`, `mag`.
-    pub fn write_csv<W: std::io::Write>(&self, w: W) -> Result<()> {
-        let mut wr = csv::Writer::from_writer(w);
-        let io = |e: csv::Error| Error::new(ErrorKind::Io, e.to_string());
-        wr.write_record(&self.headers).map_err(io)?;
+    /// The rows as written: the original cells, with the triad columns
+    /// holding the current values of `acc`, `gyr`, `mag`.
+    fn output_rows(&self) -> impl Iterator<Item = Vec<String>> + '_ {
         let idx = |names: [&str; 3]| {
             names.map(|n| self.headers.iter().position(|h| h.eq_ignore_ascii_case(n)))
         };
         let (ai, gi, mi) = (idx(ACC_COLS), idx(GYR_COLS), idx(MAG_COLS));
-        for (i, rec) in self.records.iter().enumerate() {
+        self.records.iter().enumerate().map(move |(i, rec)| {
             let mut cells = rec.clone();
             let mut put = |ix: [Option<usize>; 3], v: Option<&Vec<Vec3>>| {
                 if let Some(v) = v {
@@ -326,11 +323,67 @@ impl Recording {
             put(ai, self.acc.as_ref());
             put(gi, self.gyr.as_ref());
             put(mi, self.mag.as_ref());
+            cells
+        })
+    }
+
+    /// Write the recording as CSV with its original columns; the triad
+    /// columns hold the current values of `acc`, `gyr`, `mag`.
+    pub fn write_csv<W: std::io::Write>(&self, w: W) -> Result<()> {
+        let mut wr = csv::Writer::from_writer(w);
+        let io = |e: csv::Error| Error::new(ErrorKind::Io, e.to_string());
+        wr.write_record(&self.headers).map_err(io)?;
+        for cells in self.output_rows() {
             wr.write_record(&cells).map_err(io)?;
         }
         wr.flush()
             .map_err(|e| Error::new(ErrorKind::Io, e.to_string()))?;
         Ok(())
+    }
+
+    /// Write the recording to `path` as [`Recording::write_csv`] does, or as
+    /// Parquet when the name ends in `.parquet` (a column whose every cell is
+    /// a number is DOUBLE, any other UTF-8 text). The file appears whole or
+    /// not at all ([`crate::io::AtomicFile`]; writing over one of `inputs` is
+    /// refused); errors name it.
+    pub fn save(&self, path: &Path, inputs: &[&Path]) -> Result<()> {
+        let named = |e: Error| if e.file.is_none() { e.in_file(path) } else { e };
+        let mut f = crate::io::AtomicFile::create(path, inputs)?;
+        if crate::io::is_parquet(path) {
+            let rows: Vec<Vec<String>> = self.output_rows().collect();
+            let num = |k: usize| {
+                rows.iter().all(|r| {
+                    r.get(k)
+                        .is_some_and(|c| crate::io::parse_cell(c.as_bytes()).is_some())
+                })
+            };
+            let text: Vec<bool> = (0..self.headers.len()).map(|k| !num(k)).collect();
+            let names: Vec<&str> = self.headers.iter().map(String::as_str).collect();
+            let text_names: Vec<&str> = names
+                .iter()
+                .zip(&text)
+                .filter(|(_, t)| **t)
+                .map(|(n, _)| *n)
+                .collect();
+            let mut w =
+                crate::io::ParquetRowWriter::new(&mut f, &names, &text_names).map_err(named)?;
+            let io = |e: std::io::Error| Error::from(e).in_file(path);
+            for r in &rows {
+                for (k, &t) in text.iter().enumerate() {
+                    let c = r.get(k).map_or("", String::as_str);
+                    if t {
+                        w.str(c);
+                    } else {
+                        w.f64(crate::io::parse_cell(c.as_bytes()).unwrap_or(f64::NAN));
+                    }
+                }
+                w.end_row().map_err(io)?;
+            }
+            w.finish().map_err(io)?;
+        } else {
+            self.write_csv(&mut f).map_err(named)?;
+        }
+        f.commit()
     }
 }
 
@@ -355,6 +408,33 @@ mod tests {
         assert_eq!(back.headers, r.headers);
         assert_eq!(back.acc, r.acc);
         assert_eq!(back.records[0][5], "a");
+    }
+
+    #[test]
+    fn saves_as_csv_or_parquet_and_reads_back_the_same() {
+        let csv = "temp_c,t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,note,ref_inclination_deg\n\
+                   30,0.0,0.1,0.2,9.8,a,0\n31,0.1,0.1,0.2,9.7,b,\n";
+        let mut r = Recording::from_reader(csv.as_bytes()).unwrap();
+        // as `calibrate apply` leaves it: new triad values
+        r.acc.as_mut().unwrap()[1] = Vec3::new(0.125, -0.5, 9.80665);
+        let d = std::env::temp_dir().join(format!("clino-rec-save-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let (pc, pp) = (d.join("out.csv"), d.join("out.parquet"));
+        r.save(&pc, &[]).unwrap();
+        r.save(&pp, &[]).unwrap();
+        let (c, p) = (Recording::load(&pc).unwrap(), Recording::load(&pp).unwrap());
+        for back in [&c, &p] {
+            assert_eq!(back.headers, r.headers);
+            assert_eq!(back.acc, r.acc);
+            assert_eq!(back.temp_c, r.temp_c);
+            assert_eq!(back.records[1][5], "b");
+            assert!(back.ref_inclination_deg.as_ref().unwrap()[1].is_nan());
+        }
+        // writing over an input is refused and leaves it alone
+        let e = r.save(&pc, &[&pc]).unwrap_err();
+        assert_eq!(e.file.as_deref(), Some(pc.as_path()));
+        assert_eq!(Recording::load(&pc).unwrap().acc, r.acc);
+        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]

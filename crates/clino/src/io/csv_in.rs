@@ -175,6 +175,18 @@ struct Columns {
     movement: Option<usize>,
 }
 
+impl Columns {
+    /// Every column index read.
+    fn used(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = self.t.into_iter().chain(self.gyr).chain(self.acc).collect();
+        v.extend(self.mag.into_iter().flatten());
+        v.extend(self.temp);
+        v.extend(self.ref_q.into_iter().flatten());
+        v.extend(self.movement);
+        v
+    }
+}
+
 /// Streaming reader of an IMU recording in CSV (BROAD layout).
 ///
 /// * Lines starting with `#` are comments; blank lines are skipped.
@@ -341,6 +353,7 @@ impl<R: Read> ImuCsvReader<R> {
             failed: false,
         };
         me.cols = me.find_columns(opts)?;
+        me.table.project(&me.cols.used());
         me.gyr_scale = me.cols.gyro_unit.to_rad_s();
         me.acc_scale = match me.cols.accel_unit {
             AccelUnit::MPerS2 => 1.0,

@@ -39,4 +39,5 @@ pub use csv_in::{
 };
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
+pub(crate) use table::parse_f64 as parse_cell;
 pub use table::{TableReader, quote_cell};

@@ -401,7 +401,27 @@ impl<R: Read> TableReader<R> {
 
     /// Cell `i` of the current record as a number (empty → NaN; NaN and inf
     /// pass, see [`TableReader::finite`] for columns that must be finite).
+    #[inline]
     pub fn f64(&self, i: usize) -> Result<f64> {
+        if let Some(p) = &self.parquet {
+            if let Cell::Num(x) = p.cell(i) {
+                return Ok(x);
+            }
+            return self.parquet_text_f64(i);
+        }
+        let raw = self.rec.get(i).unwrap_or(b"");
+        parse_f64(raw).ok_or_else(|| {
+            self.err_at(
+                i,
+                ErrorKind::Parse,
+                format!("not a number: {}", quote_cell(raw)),
+            )
+        })
+    }
+
+    /// A Parquet cell that is not a number column's: text parsed as CSV is.
+    #[cold]
+    fn parquet_text_f64(&self, i: usize) -> Result<f64> {
         if let Some(p) = &self.parquet {
             return match p.cell(i) {
                 Cell::Num(x) => Ok(x),
@@ -417,14 +437,7 @@ impl<R: Read> TableReader<R> {
                 }
             };
         }
-        let raw = self.rec.get(i).unwrap_or(b"");
-        parse_f64(raw).ok_or_else(|| {
-            self.err_at(
-                i,
-                ErrorKind::Parse,
-                format!("not a number: {}", quote_cell(raw)),
-            )
-        })
+        Ok(f64::NAN)
     }
 
     /// Cell `i` as a finite number (an empty, NaN or infinite cell is an error).
@@ -455,6 +468,15 @@ impl<R: Read> TableReader<R> {
             };
         }
         String::from_utf8_lossy(self.rec.get(i).unwrap_or(b"").trim_ascii()).into_owned()
+    }
+
+    /// Only the columns `cols` will be read from now on: a Parquet file then
+    /// decodes only those (a CSV line is split whole either way). Reading
+    /// another column afterwards is an error naming it, not a wrong value.
+    pub fn project(&mut self, cols: &[usize]) {
+        if let Some(p) = self.parquet.as_mut() {
+            p.project(cols);
+        }
     }
 
     /// Every cell of the current record as text.

@@ -179,6 +179,25 @@ impl Station {
     }
 }
 
+/// [`survey`] of a stations file (CSV or Parquet, [`read_stations`]),
+/// calibrated first with `calibration` when one is given
+/// ([`calibrate_readings`]): what `clino survey` runs. Every error names the
+/// stations file (and the line and column where there is one).
+pub fn survey_file(
+    path: &std::path::Path,
+    calibration: Option<&crate::calib::CalibrationFile>,
+    opt: &SurveyOptions,
+) -> Result<SurveyReport> {
+    let named = |e: crate::Error| {
+        if e.file.is_none() { e.in_file(path) } else { e }
+    };
+    let mut readings = read_stations(path)?;
+    if let Some(cal) = calibration {
+        calibrate_readings(&mut readings, cal).map_err(named)?;
+    }
+    survey(&readings, opt).map_err(named)
+}
+
 /// Compute a survey from readings: stations, roll-test QC and the trajectory.
 ///
 /// Every reading is checked against the physical bounds of a survey station

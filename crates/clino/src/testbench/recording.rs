@@ -420,8 +420,25 @@ pub struct Analysis {
 /// Analyse a lab recording: find the excitation's frequency and amplitude from
 /// the platform reference (four-parameter fits), then the inclinometer's
 /// sensitivities (conical) or cross-coupling (orbit). `freq_hz` overrides the
-/// fitted frequency; `skip_s` drops the start of the record.
+/// fitted frequency; `skip_s` drops the start of the record. Every error
+/// names the table's file.
 pub fn analyze(
+    table: &Table,
+    excitation: Excitation,
+    geometry: &Geometry,
+    freq_hz: Option<f64>,
+    skip_s: f64,
+) -> Result<Analysis> {
+    analyze_table(table, excitation, geometry, freq_hz, skip_s).map_err(|e| {
+        if e.file.is_none() {
+            e.in_file(&table.path)
+        } else {
+            e
+        }
+    })
+}
+
+fn analyze_table(
     table: &Table,
     excitation: Excitation,
     geometry: &Geometry,
