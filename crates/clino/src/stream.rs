@@ -55,7 +55,7 @@ pub fn write_raw<S: RowSink>(out: &mut S, s: &ImuSample) -> std::io::Result<()> 
 
 enum RecordSink {
     Csv(CsvLineWriter<AtomicFile>),
-    Parquet(ParquetRowWriter<AtomicFile>),
+    Parquet(Box<ParquetRowWriter<AtomicFile>>),
 }
 
 /// A recording of the raw SI samples (CSV, or Parquet by the extension),
@@ -75,7 +75,7 @@ impl Recorder {
         let file = AtomicFile::create(path, inputs)?;
         let io = |e: std::io::Error| Error::from(e).in_file(path);
         let sink = if is_parquet(path) {
-            RecordSink::Parquet(ParquetRowWriter::new(file, &RAW_HEADER, &[])?)
+            RecordSink::Parquet(Box::new(ParquetRowWriter::new(file, &RAW_HEADER, &[])?))
         } else {
             let mut w = CsvLineWriter::new(file);
             w.header(&RAW_HEADER).map_err(io)?;
@@ -93,7 +93,7 @@ impl Recorder {
     pub fn push(&mut self, s: &ImuSample) -> Result<()> {
         let r = match &mut self.sink {
             RecordSink::Csv(w) => write_raw(w, s),
-            RecordSink::Parquet(w) => write_raw(w, s),
+            RecordSink::Parquet(w) => write_raw(w.as_mut(), s),
         };
         r.map_err(|e| Error::from(e).in_file(&self.path))?;
         self.rows += 1;
