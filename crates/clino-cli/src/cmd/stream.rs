@@ -19,32 +19,41 @@ use super::{GainArgs, ReadArgs, StageArgs};
 
 /// Arguments of `clino stream`.
 #[derive(clap::Args, Debug)]
-#[command(group(clap::ArgGroup::new("source").required(true).args(["port", "i2c", "replay"])))]
 pub struct Args {
     /// Serial port of a board running clino firmware (e.g. /dev/ttyACM0, /dev/ttyUSB0).
-    #[arg(long, value_name = "DEVICE")]
+    // one source of --port, --i2c, --replay. The flags of one source are
+    // checked by `check_flags`: clap takes a `requires` as met when the
+    // required flag conflicts with one that is present (or is required
+    // unless one is), so `requires = "port"` would let `--i2c … --dials` through.
+    #[arg(
+        long,
+        value_name = "DEVICE",
+        required_unless_present_any = ["i2c", "replay"],
+        conflicts_with_all = ["i2c", "replay"]
+    )]
     pub port: Option<String>,
     /// Baud rate of the port (8N1).
     #[arg(long, default_value_t = 115_200, value_name = "N")]
     pub baud: u32,
     /// An MPU6050 on this I²C bus, read by the host (Linux: /dev/i2c-1 on a Raspberry Pi).
-    #[arg(long, value_name = "/dev/i2c-N")]
+    #[arg(long, value_name = "/dev/i2c-N", conflicts_with = "replay")]
     pub i2c: Option<String>,
-    /// I²C address of the MPU6050: 0x68 (AD0 low) or 0x69 (AD0 high); hex or decimal.
-    #[arg(long, default_value = "0x68", value_name = "ADDR", value_parser = parse_address, requires = "i2c")]
-    pub address: Address,
-    /// Read rate of the I²C sensor, Hz (at most 1000; the time stamps are k / rate).
-    #[arg(long, default_value_t = 100.0, value_name = "HZ", requires = "i2c")]
-    pub rate: f64,
-    /// Accelerometer full scale of the I²C sensor, ±g: 2, 4, 8 or 16.
-    #[arg(long, default_value_t = 2, value_name = "G", requires = "i2c")]
-    pub accel_fs: u8,
-    /// Gyroscope full scale of the I²C sensor, ±°/s: 250, 500, 1000 or 2000.
-    #[arg(long, default_value_t = 250, value_name = "DPS", requires = "i2c")]
-    pub gyro_fs: u16,
-    /// Low-pass filter of the I²C sensor, Hz: 260, 184, 94, 44, 21, 10 or 5 (below half the rate).
-    #[arg(long, default_value_t = 44, value_name = "HZ", requires = "i2c")]
-    pub dlpf: u16,
+    /// I²C address of the MPU6050: 0x68 (AD0 low, the default) or 0x69 (AD0 high); hex or decimal.
+    #[arg(long, value_name = "ADDR", value_parser = parse_address)]
+    pub address: Option<Address>,
+    /// Read rate of the I²C sensor, Hz (default 100, at most 1000; the time stamps are k / rate).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// Accelerometer full scale of the I²C sensor, ±g: 2 (default), 4, 8 or 16.
+    #[arg(long, value_name = "G")]
+    pub accel_fs: Option<u8>,
+    /// Gyroscope full scale of the I²C sensor, ±°/s: 250 (default), 500, 1000 or 2000.
+    #[arg(long, value_name = "DPS")]
+    pub gyro_fs: Option<u16>,
+    /// Low-pass filter of the I²C sensor, Hz: 260, 184, 94, 44 (default), 21, 10 or 5
+    /// (keep it below half the rate).
+    #[arg(long, value_name = "HZ")]
+    pub dlpf: Option<u16>,
     /// Replay a recording (CSV or Parquet, as `clino fuse` reads) on its own clock.
     #[arg(long, value_name = "FILE")]
     pub replay: Option<PathBuf>,
@@ -73,7 +82,7 @@ pub struct Args {
     pub record: Option<PathBuf>,
     /// Send the filter's roll and pitch to the board's dials (10 times a second; a board on
     /// --port: a bare I²C sensor has none).
-    #[arg(long, requires = "port")]
+    #[arg(long)]
     pub dials: bool,
     /// Report when no valid frame has arrived for this many seconds (wrong baud rate, wrong port).
     #[arg(long, default_value_t = 3.0, value_name = "SECONDS")]
@@ -193,7 +202,13 @@ fn open_serial(a: &Args, port: &str) -> anyhow::Result<Box<dyn SampleSource + Se
 #[cfg(target_os = "linux")]
 fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>> {
     use clino::io::source::{I2cOptions, I2cSource};
-    let opts = I2cOptions::from_numbers(a.rate, a.accel_fs, a.gyro_fs, a.dlpf)?;
+    let d = I2cOptions::default();
+    let opts = I2cOptions::from_numbers(
+        a.rate.unwrap_or(d.rate_hz),
+        a.accel_fs.unwrap_or(d.accel_range.g()),
+        a.gyro_fs.unwrap_or(d.gyro_range.dps()),
+        a.dlpf.unwrap_or(d.dlpf.accel_bandwidth_hz()),
+    )?;
     let io = |m: String| clino::Error::new(clino::ErrorKind::Io, m).in_file(path);
     if !Path::new(path).exists() {
         return Err(io(
@@ -203,12 +218,31 @@ fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>
         )
         .into());
     }
-    let bus = linux_embedded_hal::I2cdev::new(path).map_err(|e| {
-        io(format!(
-            "cannot open the I2C bus: {e} (permission: add the user to the i2c group)"
-        ))
-    })?;
-    Ok(Box::new(I2cSource::new(bus, path, a.address, opts)?))
+    let bus = linux_embedded_hal::I2cdev::new(path)
+        .map_err(|e| io(format!("cannot open the I2C bus: {e}{}", i2c_open_hint(&e))))?;
+    Ok(Box::new(I2cSource::new(
+        bus,
+        path,
+        a.address.unwrap_or_default(),
+        opts,
+    )?))
+}
+
+/// The likely cause of an error opening an I²C bus.
+#[cfg(target_os = "linux")]
+fn i2c_open_hint(e: &linux_embedded_hal::i2cdev::linux::LinuxI2CError) -> &'static str {
+    use linux_embedded_hal::i2cdev::linux::LinuxI2CError;
+    let errno = match e {
+        LinuxI2CError::Errno(n) => Some(*n),
+        LinuxI2CError::Io(e) => e.raw_os_error(),
+    };
+    match errno {
+        Some(libc::EACCES) | Some(libc::EPERM) => {
+            " (add the user to the i2c group, or run as root)"
+        }
+        Some(libc::ENOTTY) => " (not an I2C bus: give its /dev/i2c-N device)",
+        _ => "",
+    }
 }
 
 #[cfg(not(target_os = "linux"))]
@@ -219,7 +253,29 @@ fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>
     )
 }
 
+/// The flags that belong to one source are given with it.
+fn check_flags(a: &Args) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        !a.dials || a.port.is_some(),
+        "--dials needs a board running clino firmware on --port (a bare I2C sensor or a replay has no dials)"
+    );
+    let i2c_only = [
+        ("--address", a.address.is_some()),
+        ("--rate", a.rate.is_some()),
+        ("--accel-fs", a.accel_fs.is_some()),
+        ("--gyro-fs", a.gyro_fs.is_some()),
+        ("--dlpf", a.dlpf.is_some()),
+    ];
+    if a.i2c.is_none()
+        && let Some((flag, _)) = i2c_only.iter().find(|(_, given)| *given)
+    {
+        anyhow::bail!("{flag} is an option of the I2C sensor: it needs --i2c");
+    }
+    Ok(())
+}
+
 fn open_source(a: &Args) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    check_flags(a)?;
     if let Some(port) = &a.port {
         return open_serial(a, port);
     }
