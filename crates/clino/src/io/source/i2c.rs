@@ -196,6 +196,37 @@ fn describe<E: embedded_hal::i2c::Error>(e: &E) -> String {
     format!("I2C {what} ({e:?})")
 }
 
+/// WHO_AM_I must read 0x68: an `Io` error when nothing answers, `InvalidInput` for another chip.
+fn check_who_am_i<I: I2c>(dev: &mut Mpu6050<I>, name: &str) -> Result<()> {
+    let id = dev.who_am_i().map_err(|e| {
+        let why = match e {
+            clino_mpu6050::Error::I2c(e) => describe(&e),
+            clino_mpu6050::Error::WrongDevice(id) => format!("WHO_AM_I {id:#04x}"),
+        };
+        Error::new(
+            ErrorKind::Io,
+            format!(
+                "no MPU6050 answers: {why}; check the wiring (SDA, SCL, GND, 3.3 V), \
+                 the bus number and the address (0x68, or 0x69 with AD0 high; \
+                 `i2cdetect -y N` lists what answers on bus N)"
+            ),
+        )
+        .in_file(name)
+    })?;
+    if id != clino_mpu6050::WHO_AM_I_MPU6050 {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "WHO_AM_I reads {id:#04x}, expected {:#04x}: not an MPU6050 \
+                 (an MPU6500 reads 0x70, an MPU9250 0x71, 0x00 or 0xff a bus fault)",
+                clino_mpu6050::WHO_AM_I_MPU6050
+            ),
+        )
+        .in_file(name));
+    }
+    Ok(())
+}
+
 /// An MPU6050 on an I²C bus as a [`SampleSource`]: set up through
 /// [`clino_mpu6050`], read on a fixed-rate schedule of the host's clock.
 ///
@@ -263,32 +294,7 @@ impl<I: I2c, C: HostClock> I2cSource<I, C> {
         opts.validate()?;
         let name = format!("{device} @{:#04x}", address.addr());
         let mut dev = Mpu6050::new(bus, address);
-        let id = dev.who_am_i().map_err(|e| {
-            let why = match e {
-                clino_mpu6050::Error::I2c(e) => describe(&e),
-                clino_mpu6050::Error::WrongDevice(id) => format!("WHO_AM_I {id:#04x}"),
-            };
-            Error::new(
-                ErrorKind::Io,
-                format!(
-                    "no MPU6050 answers: {why}; check the wiring (SDA, SCL, GND, 3.3 V), \
-                     the bus number and the address (0x68, or 0x69 with AD0 high; \
-                     `i2cdetect -y N` lists what answers on bus N)"
-                ),
-            )
-            .in_file(&name)
-        })?;
-        if id != clino_mpu6050::WHO_AM_I_MPU6050 {
-            return Err(Error::new(
-                ErrorKind::InvalidInput,
-                format!(
-                    "WHO_AM_I reads {id:#04x}, expected {:#04x}: not an MPU6050 \
-                     (an MPU6500 reads 0x70, an MPU9250 0x71, 0x00 or 0xff a bus fault)",
-                    clino_mpu6050::WHO_AM_I_MPU6050
-                ),
-            )
-            .in_file(&name));
-        }
+        check_who_am_i(&mut dev, &name)?;
         let config = opts.sensor_config();
         dev.init(&config, &mut Delay(&mut clock)).map_err(|e| {
             let why = match e {
