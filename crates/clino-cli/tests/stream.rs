@@ -459,3 +459,90 @@ fn replay_keeps_the_recordings_clock() {
     // 7.0 s at 10× is 0.70 s at least (never earlier than the recording's clock)
     assert!(wall >= 0.69, "{wall}");
 }
+
+/// `clino stream` with arguments, its exit code and stderr.
+fn stream_err(args: &[&str]) -> (Option<i32>, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_clino"))
+        .arg("stream")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn i2c_without_a_sensor_fails_cleanly_naming_the_bus() {
+    // a bus that does not exist
+    let (code, err) = stream_err(&["--i2c", "/nonexistent/i2c-9", "--csv"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("clino: error: /nonexistent/i2c-9: no such I2C bus"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    // a device that is no I2C bus
+    let (code, err) = stream_err(&["--i2c", "/dev/null", "--address", "105"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("/dev/null: cannot open the I2C bus: ENOTTY"),
+        "{err}"
+    );
+    assert!(err.contains("not an I2C bus"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    // the options are checked before the bus is opened
+    let (code, err) = stream_err(&["--i2c", "/nonexistent/i2c-9", "--rate", "5000"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("at most 1000 Hz"), "{err}");
+    let (_, err) = stream_err(&["--i2c", "/nonexistent/i2c-9", "--dlpf", "50"]);
+    assert!(err.contains("low-pass bandwidth must be"), "{err}");
+}
+
+#[test]
+fn the_sources_exclude_each_other_and_dials_need_a_board() {
+    let data = vector_dir().join("frames.csv");
+    let data = data.to_str().unwrap();
+    for args in [
+        &["--i2c", "/dev/i2c-1", "--port", "/dev/ttyACM0"][..],
+        &["--i2c", "/dev/i2c-1", "--replay", data],
+        &["--port", "/dev/ttyACM0", "--replay", data],
+    ] {
+        let (code, err) = stream_err(args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains("cannot be used with"), "{args:?}: {err}");
+    }
+    let (code, err) = stream_err(&["--csv"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("required") && err.contains("--port"), "{err}");
+    // no dials on a bare sensor or a replay (checked before the device is opened)
+    for args in [
+        &["--i2c", "/dev/i2c-1", "--dials"][..],
+        &["--replay", data, "--dials"],
+    ] {
+        let (code, err) = stream_err(args);
+        assert_eq!(code, Some(1), "{args:?}: {err}");
+        assert!(err.contains("--dials needs a board"), "{args:?}: {err}");
+    }
+    // the address: 0x68 or 0x69, hex or decimal, and only with --i2c
+    let (code, err) = stream_err(&["--i2c", "/dev/i2c-1", "--address", "0x70"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("0x68 (AD0 low) or 0x69 (AD0 high), got '0x70'"),
+        "{err}"
+    );
+    for flag in ["--address", "--rate", "--accel-fs", "--gyro-fs", "--dlpf"] {
+        let value = if flag == "--address" { "0x69" } else { "4" };
+        for source in [["--replay", data], ["--port", "/dev/ttyACM0"]] {
+            let (code, err) = stream_err(&[source[0], source[1], flag, value]);
+            assert_eq!(code, Some(1), "{flag}: {err}");
+            assert!(
+                err.contains(&format!(
+                    "{flag} is an option of the I2C sensor: it needs --i2c"
+                )),
+                "{flag}: {err}"
+            );
+        }
+    }
+}

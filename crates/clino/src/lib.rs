@@ -24,6 +24,8 @@
 #![deny(missing_docs)]
 
 pub use clino_core as core;
+/// The MPU6050 driver of the I²C source ([`io::source::I2cSource`]): ranges, filter, address.
+pub use clino_mpu6050 as mpu6050;
 
 pub mod batch;
 pub mod calib;

@@ -232,6 +232,12 @@ pub struct StreamCounts {
     pub temp_outside_calibration: u64,
     /// Dial commands sent.
     pub dials_sent: u64,
+    /// Late reads of a sensor on the host's clock ([`SourceNotice::Late`]).
+    pub late_reads: u64,
+    /// Sample times those late reads skipped.
+    pub skipped: u64,
+    /// Bus transfers tried again ([`SourceNotice::BusRetry`]).
+    pub bus_retries: u64,
 }
 
 fn bad_index(e: &FrameError) -> usize {
@@ -254,6 +260,11 @@ impl StreamCounts {
             SourceNotice::Connected { .. } => {}
             SourceNotice::Disconnected { .. } => self.disconnects += 1,
             SourceNotice::Silent { .. } => self.silences += 1,
+            SourceNotice::Late { missed } => {
+                self.late_reads += 1;
+                self.skipped += missed;
+            }
+            SourceNotice::BusRetry { .. } => self.bus_retries += 1,
             SourceNotice::Link(l) => match l {
                 Notice::Config(_) => self.configs += 1,
                 Notice::BadConfig(_) | Notice::Version(_) => {
@@ -324,6 +335,12 @@ impl StreamCounts {
             v.push(format!(
                 "calibration: {} samples outside its temperature range",
                 self.temp_outside_calibration
+            ));
+        }
+        if self.late_reads + self.bus_retries > 0 {
+            v.push(format!(
+                "sensor: {} late reads ({} sample times skipped), {} bus retries",
+                self.late_reads, self.skipped, self.bus_retries
             ));
         }
         if self.dials_sent > 0 {

@@ -1,5 +1,6 @@
-//! `clino stream`: a board on a serial port, or a recording replayed, through
-//! the pipeline live: a terminal view, fused CSV rows, a recording.
+//! `clino stream`: a board on a serial port, an MPU6050 on an I²C bus (Linux),
+//! or a recording replayed, through the pipeline live: a terminal view, fused
+//! CSV rows, a recording.
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -9,6 +10,7 @@ use std::time::{Duration, Instant};
 use clino::io::source::{
     FileSource, ReplaySource, SampleSource, SerialOptions, SerialSource, SourceNotice,
 };
+use clino::mpu6050::Address;
 use clino::stream::{
     FusedCsv, LiveStatus, Recorder, StreamConfig, StreamCounts, StreamObserver, StreamOutputs,
 };
@@ -19,16 +21,39 @@ use super::{GainArgs, ReadArgs, StageArgs};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Serial port of a board running clino firmware (e.g. /dev/ttyACM0, /dev/ttyUSB0).
+    // one source of --port, --i2c, --replay. The flags of one source are
+    // checked by `check_flags`: clap takes a `requires` as met when the
+    // required flag conflicts with one that is present (or is required
+    // unless one is), so `requires = "port"` would let `--i2c … --dials` through.
     #[arg(
         long,
         value_name = "DEVICE",
-        required_unless_present = "replay",
-        conflicts_with = "replay"
+        required_unless_present_any = ["i2c", "replay"],
+        conflicts_with_all = ["i2c", "replay"]
     )]
     pub port: Option<String>,
     /// Baud rate of the port (8N1).
     #[arg(long, default_value_t = 115_200, value_name = "N")]
     pub baud: u32,
+    /// An MPU6050 on this I²C bus, read by the host (Linux: /dev/i2c-1 on a Raspberry Pi).
+    #[arg(long, value_name = "/dev/i2c-N", conflicts_with = "replay")]
+    pub i2c: Option<String>,
+    /// I²C address of the MPU6050: 0x68 (AD0 low, the default) or 0x69 (AD0 high); hex or decimal.
+    #[arg(long, value_name = "ADDR", value_parser = parse_address)]
+    pub address: Option<Address>,
+    /// Read rate of the I²C sensor, Hz (default 100, at most 1000; the time stamps are k / rate).
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// Accelerometer full scale of the I²C sensor, ±g: 2 (default), 4, 8 or 16.
+    #[arg(long, value_name = "G")]
+    pub accel_fs: Option<u8>,
+    /// Gyroscope full scale of the I²C sensor, ±°/s: 250 (default), 500, 1000 or 2000.
+    #[arg(long, value_name = "DPS")]
+    pub gyro_fs: Option<u16>,
+    /// Low-pass filter of the I²C sensor, Hz: 260, 184, 94, 44 (default), 21, 10 or 5
+    /// (keep it below half the rate).
+    #[arg(long, value_name = "HZ")]
+    pub dlpf: Option<u16>,
     /// Replay a recording (CSV or Parquet, as `clino fuse` reads) on its own clock.
     #[arg(long, value_name = "FILE")]
     pub replay: Option<PathBuf>,
@@ -55,8 +80,9 @@ pub struct Args {
     /// flushed every second, complete after Ctrl-C.
     #[arg(long, value_name = "FILE.csv|parquet")]
     pub record: Option<PathBuf>,
-    /// Send the filter's roll and pitch to the board's dials (10 times a second).
-    #[arg(long, requires = "port")]
+    /// Send the filter's roll and pitch to the board's dials (10 times a second; a board on
+    /// --port: a bare I²C sensor has none).
+    #[arg(long)]
     pub dials: bool,
     /// Report when no valid frame has arrived for this many seconds (wrong baud rate, wrong port).
     #[arg(long, default_value_t = 3.0, value_name = "SECONDS")]
@@ -64,6 +90,10 @@ pub struct Args {
     /// Samples the buffer between the reader and the filter holds (a slow consumer drops beyond it).
     #[arg(long, default_value_t = 4096, value_name = "N")]
     pub buffer: usize,
+}
+
+fn parse_address(text: &str) -> Result<Address, String> {
+    clino::io::source::parse_address(text).map_err(|e| e.message)
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -135,6 +165,8 @@ impl StreamObserver for Terminal {
             SourceNotice::Link(Notice::Gap { .. }) => "gap",
             SourceNotice::Link(Notice::Repeated { .. }) => "repeated",
             SourceNotice::Link(Notice::NoConfig) => "no config",
+            SourceNotice::Late { .. } => "late",
+            SourceNotice::BusRetry { .. } => "bus retry",
             _ => {
                 self.say_now(&n.to_string());
                 return;
@@ -153,18 +185,102 @@ impl StreamObserver for Terminal {
     }
 }
 
+fn open_serial(a: &Args, port: &str) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    anyhow::ensure!(
+        a.silence > 0.0,
+        "--silence wants a positive number of seconds"
+    );
+    let opts = SerialOptions {
+        baud: a.baud,
+        silence: Duration::from_secs_f64(a.silence),
+        ..SerialOptions::default()
+    };
+    Ok(Box::new(SerialSource::open(port, opts)?))
+}
+
+/// The MPU6050 on the kernel's I²C device `path` (Linux's `/dev/i2c-N`).
+#[cfg(target_os = "linux")]
+fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    use clino::io::source::{I2cOptions, I2cSource};
+    let d = I2cOptions::default();
+    let opts = I2cOptions::from_numbers(
+        a.rate.unwrap_or(d.rate_hz),
+        a.accel_fs.unwrap_or(d.accel_range.g()),
+        a.gyro_fs.unwrap_or(d.gyro_range.dps()),
+        a.dlpf.unwrap_or(d.dlpf.accel_bandwidth_hz()),
+    )?;
+    let io = |m: String| clino::Error::new(clino::ErrorKind::Io, m).in_file(path);
+    if !Path::new(path).exists() {
+        return Err(io(
+            "no such I2C bus (is I2C enabled? `ls /dev/i2c-*` lists the buses; \
+             on a Raspberry Pi: raspi-config, Interface Options, I2C)"
+                .into(),
+        )
+        .into());
+    }
+    let bus = linux_embedded_hal::I2cdev::new(path)
+        .map_err(|e| io(format!("cannot open the I2C bus: {e}{}", i2c_open_hint(&e))))?;
+    Ok(Box::new(I2cSource::new(
+        bus,
+        path,
+        a.address.unwrap_or_default(),
+        opts,
+    )?))
+}
+
+/// The likely cause of an error opening an I²C bus.
+#[cfg(target_os = "linux")]
+fn i2c_open_hint(e: &linux_embedded_hal::i2cdev::linux::LinuxI2CError) -> &'static str {
+    use linux_embedded_hal::i2cdev::linux::LinuxI2CError;
+    let errno = match e {
+        LinuxI2CError::Errno(n) => Some(*n),
+        LinuxI2CError::Io(e) => e.raw_os_error(),
+    };
+    match errno {
+        Some(libc::EACCES) | Some(libc::EPERM) => {
+            " (add the user to the i2c group, or run as root)"
+        }
+        Some(libc::ENOTTY) => " (not an I2C bus: give its /dev/i2c-N device)",
+        _ => "",
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    let _ = a;
+    anyhow::bail!(
+        "{path}: --i2c reads /dev/i2c-N and works on Linux only (use --port with a board running clino firmware)"
+    )
+}
+
+/// The flags that belong to one source are given with it.
+fn check_flags(a: &Args) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        !a.dials || a.port.is_some(),
+        "--dials needs a board running clino firmware on --port (a bare I2C sensor or a replay has no dials)"
+    );
+    let i2c_only = [
+        ("--address", a.address.is_some()),
+        ("--rate", a.rate.is_some()),
+        ("--accel-fs", a.accel_fs.is_some()),
+        ("--gyro-fs", a.gyro_fs.is_some()),
+        ("--dlpf", a.dlpf.is_some()),
+    ];
+    if a.i2c.is_none()
+        && let Some((flag, _)) = i2c_only.iter().find(|(_, given)| *given)
+    {
+        anyhow::bail!("{flag} is an option of the I2C sensor: it needs --i2c");
+    }
+    Ok(())
+}
+
 fn open_source(a: &Args) -> anyhow::Result<Box<dyn SampleSource + Send>> {
+    check_flags(a)?;
     if let Some(port) = &a.port {
-        anyhow::ensure!(
-            a.silence > 0.0,
-            "--silence wants a positive number of seconds"
-        );
-        let opts = SerialOptions {
-            baud: a.baud,
-            silence: Duration::from_secs_f64(a.silence),
-            ..SerialOptions::default()
-        };
-        return Ok(Box::new(SerialSource::open(port, opts)?));
+        return open_serial(a, port);
+    }
+    if let Some(path) = &a.i2c {
+        return open_i2c(a, path);
     }
     let path = a.replay.as_deref().unwrap_or(Path::new("-"));
     let opts = clino::io::ReadOptions {

@@ -15,7 +15,8 @@
 //! * [`ParquetRowWriter`] and [`CsvLineWriter`] write rows ([`RowSink`]);
 //!   [`convert`] copies a table between the formats;
 //! * [`source`]: sample sources behind one trait ([`source::SampleSource`]):
-//!   a file, a replay at a chosen speed, a serial port speaking clino's protocol;
+//!   a file, a replay at a chosen speed, a serial port speaking clino's protocol,
+//!   an MPU6050 on an I²C bus;
 //! * [`AtomicFile`] makes an output file appear whole or not at all.
 //!
 //! The CSV layout is that of the BROAD benchmark files shipped with the

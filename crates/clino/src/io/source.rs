@@ -1,19 +1,22 @@
 //! Sample sources behind one interface: a file, a replay of a file at a
 //! chosen speed, a serial port speaking clino's protocol
-//! ([`clino_core::protocol`]); an I²C sensor fits the same trait.
+//! ([`clino_core::protocol`]), an MPU6050 on an I²C bus ([`I2cSource`]).
 //!
 //! The shape is that of an embedded-hal driver: one trait ([`SampleSource`]),
 //! and whatever the transport fails with (a file's parse error, a serial
 //! port's I/O error, an I²C bus NACK) comes back as the one [`crate::Error`]
 //! (kind [`ErrorKind::Io`] for the bus, with the device's name in
 //! `file`). What a source notices without failing — a CONFIG, a sequence gap,
-//! a bad frame, the port gone — is a [`SourceNotice`], reported in order with
-//! the samples.
+//! a bad frame, the port gone, a late read — is a [`SourceNotice`], reported
+//! in order with the samples.
 //!
-//! An I²C source (MPU6050 on `/dev/i2c-N`) implements [`SampleSource::poll`]
-//! by waiting for its next sample time, reading the 14 data registers through
-//! the driver, converting with [`clino_core::protocol::Scales`] and emitting
-//! one [`SourceEvent::Sample`]; a bus error is an `Err` of kind `Io`.
+//! The I²C source (MPU6050 on `/dev/i2c-N`, or any embedded-hal 1.0 bus)
+//! implements [`SampleSource::poll`] by waiting for its next sample time on
+//! a fixed-rate schedule, reading the 14 data registers through the
+//! driver ([`clino_mpu6050`]), converting with
+//! [`clino_core::protocol::Scales`] and emitting one [`SourceEvent::Sample`];
+//! a bus error (after a few retries) is an `Err` of kind `Io`; [`I2cSource`]
+//! gives the rules.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -24,6 +27,9 @@ use clino_core::protocol::{self, Decoder, Frame, FrameError, Link, MAX_FRAME, No
 
 use super::{ImuCsvReader, ReadOptions};
 use crate::{Error, ErrorKind, Result};
+
+mod i2c;
+pub use i2c::{HostClock, I2cOptions, I2cSource, StdClock, parse_address};
 
 /// Something a source reports besides samples.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,6 +59,21 @@ pub enum SourceNotice {
         seconds: f64,
         /// Bytes that arrived in that time (many bytes and no frame: wrong baud rate).
         bytes: u64,
+    },
+    /// A sensor read on the host's clock woke more than a sample period
+    /// late: the sample times that passed are skipped, not read in a burst.
+    Late {
+        /// Sample times skipped.
+        missed: u64,
+    },
+    /// A bus transfer failed and is tried again.
+    BusRetry {
+        /// What the bus said.
+        error: String,
+        /// This retry, 1-based.
+        attempt: u32,
+        /// Retries allowed before the stream fails.
+        of: u32,
     },
 }
 
@@ -453,6 +474,14 @@ impl std::fmt::Display for SourceNotice {
                 )
             }
             SourceNotice::Silent { seconds, bytes } => f.write_str(&silence_hint(*seconds, *bytes)),
+            SourceNotice::Late { missed } => write!(
+                f,
+                "read late: {missed} sample time{} skipped (the host was busy or the bus slow)",
+                if *missed == 1 { "" } else { "s" }
+            ),
+            SourceNotice::BusRetry { error, attempt, of } => {
+                write!(f, "{error}: trying again ({attempt} of {of})")
+            }
             SourceNotice::Link(n) => match n {
                 Notice::Config(c) => write!(
                     f,
