@@ -635,6 +635,89 @@ mod tests {
         );
     }
 
+    /// The Kalman/RTS pass of [`rts_axis`] against the same linear-Gaussian
+    /// model solved in one piece: every state is a linear function of the
+    /// independent Gaussians z = (x₋₁, w₀ … w_{n−1}), the bounds are
+    /// observations 0 = v_k + n_v, 0 = p_k + n_p, and the posterior mean is
+    /// z̄ = Σ Hᵀ (H Σ Hᵀ + R)⁻¹ (0 − c). The smoothed mean of a linear-Gaussian
+    /// model is unique, so the recursion must give the same d at every sample.
+    #[test]
+    fn rts_pass_equals_the_batch_gaussian_solution() {
+        use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+        let n = 40;
+        let b = BoundedMotion {
+            // tight bounds, so that they pull the tilt error well away from 0
+            speed_m_s: 0.02,
+            range_m: 0.005,
+            tilt_sigma_rad: 0.01,
+            tilt_tau_s: 0.05,
+            // above the sample rate: a bound at every sample
+            constraint_rate_hz: 1000.0,
+        };
+        let g = 9.81;
+        // uneven steps and an arbitrary horizontal force
+        let hs: Vec<f64> = (0..n)
+            .map(|k| 0.004 + 0.002 * ((k * 7 % 5) as f64) / 4.0)
+            .collect();
+        let fs: Vec<f64> = (0..n)
+            .map(|k| 0.3 * (0.37 * k as f64).sin() + 0.05)
+            .collect();
+        let got = rts_axis(n, |k| fs[k], |k| hs[k], &b, g);
+
+        // x_k = A_k z + c_k
+        let m = 3 + n;
+        let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
+        let mut prior = DVector::zeros(m);
+        prior[0] = sd2;
+        prior[1] = b.speed_m_s * b.speed_m_s;
+        prior[2] = b.range_m * b.range_m;
+        let mut a = DMatrix::<f64>::zeros(3, m);
+        a[(0, 0)] = 1.0;
+        a[(1, 1)] = 1.0;
+        a[(2, 2)] = 1.0;
+        let mut c = Vector3::<f64>::zeros();
+        let (mut rows_a, mut rows_c) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            let h = hs[k];
+            let phi = (-h / b.tilt_tau_s).exp();
+            let f = Matrix3::new(phi, 0.0, 0.0, g * h, 1.0, 0.0, 0.0, h, 1.0);
+            let f_d = DMatrix::from_fn(3, 3, |i, j| f[(i, j)]);
+            a = &f_d * &a;
+            a[(0, 3 + k)] += 1.0;
+            prior[3 + k] = sd2 * (1.0 - phi * phi);
+            c = f * c + Vector3::new(0.0, fs[k] * h, 0.0);
+            rows_a.push(a.clone());
+            rows_c.push(c);
+        }
+        // observations 0 = v_k + n_v and 0 = p_k + n_p at every k
+        let mut hm = DMatrix::<f64>::zeros(2 * n, m);
+        let mut y = DVector::<f64>::zeros(2 * n);
+        let mut r = DVector::<f64>::zeros(2 * n);
+        for k in 0..n {
+            for (j, (i, var)) in [(1usize, b.speed_m_s.powi(2)), (2, b.range_m.powi(2))]
+                .into_iter()
+                .enumerate()
+            {
+                hm.row_mut(2 * k + j).copy_from(&rows_a[k].row(i));
+                y[2 * k + j] = -rows_c[k][i];
+                r[2 * k + j] = var;
+            }
+        }
+        let sigma = DMatrix::from_diagonal(&prior);
+        let s = &hm * &sigma * hm.transpose() + DMatrix::from_diagonal(&r);
+        let zbar = &sigma * hm.transpose() * s.lu().solve(&y).unwrap();
+        for k in 0..n {
+            let want = (rows_a[k].row(0) * &zbar)[0] + rows_c[k][0];
+            assert!(
+                (got[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
+                "sample {k}: RTS {} against batch {want}",
+                got[k]
+            );
+        }
+        // and the bounds pulled the tilt error away from zero: the test sees something
+        assert!(got.iter().any(|d| d.abs() > 1e-3), "{got:?}");
+    }
+
     #[test]
     fn empty_and_nan_input() {
         assert!(smooth(&[], &[], &[], &SmoothOptions::default()).is_empty());
