@@ -133,6 +133,17 @@ type Fused<'py> = (
     Bound<'py, PyArray1<u8>>,
 );
 
+/// [`Fused`] and the counts JSON.
+type FusedWithCounts<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Bound<'py, PyArray1<u8>>,
+    String,
+);
+
+/// One sample's outputs: quaternion and tilt (None before initialisation), status code.
+type OneSample = (Option<[f64; 4]>, Option<[f64; 3]>, u8);
+
 /// The output arrays of `n` rows, allocated once (zeroed: `calloc`, pages
 /// touched only when written): quaternions (N, 4), tilt in degrees (N, 3,
 /// when `tilt`) and status codes (N,).
@@ -193,12 +204,7 @@ fn fuse<'py>(
     params: Vec<(String, String)>,
     temp_c: Option<PyReadonlyArray1<'py, f64>>,
     tilt: bool,
-) -> PyResult<(
-    Bound<'py, PyArray2<f64>>,
-    Option<Bound<'py, PyArray2<f64>>>,
-    Bound<'py, PyArray1<u8>>,
-    String,
-)> {
+) -> PyResult<FusedWithCounts<'py>> {
     let cfg = config(filter, &params, lever_arm, offline).py(py)?;
     let g = strided(&gyr, "gyr")?;
     let a = strided(&acc, "acc")?;
@@ -297,7 +303,7 @@ impl PyPipeline {
         acc: [f64; 3],
         t: Option<f64>,
         temp_c: Option<f64>,
-    ) -> PyResult<(Option<[f64; 4]>, Option<[f64; 3]>, u8)> {
+    ) -> PyResult<OneSample> {
         let tt = t.map(|x| [x]);
         let tc = temp_c.map(|x| [x]);
         let (mut q, mut d, mut st) = ([[0.0; 4]], [[0.0; 3]], [0u8]);
