@@ -12,7 +12,10 @@ samples/s of
 * `vqf.VQF(Ts).updateBatch` (the C++ VQF, 6-D) and `vqf.BasicVQF`,
 * `imufusion.Ahrs.update_no_magnetometer` (no batch API: a Python loop),
 
-on BROAD recordings when found (else a simulated one), best of 3 runs each;
+on BROAD recordings when found (else a simulated one), best of `--repeat`
+runs each, interleaved: every round times each batch method once, in turn,
+so that a change of machine load during the run touches all of them alike
+and the ratios to vqf stay comparable on a shared machine;
 then `clino.dask.process(..., "inclination")` on a LocalCluster of 1, 2 and 4
 single-threaded worker processes: rows/s over the BROAD recordings and the
 overhead per task (many 100-row recordings). Numbers only, no assertions.
@@ -37,6 +40,18 @@ def need(*pkgs):
         subprocess.check_call([sys.executable, "-m", "pip", "install", "-q", *missing])
 
 
+def interleaved(fns, rounds, clock=time.perf_counter):
+    """Best time of each of `fns` (name -> callable) over `rounds` rounds,
+    each round calling every one once, in turn."""
+    ts = {k: float("inf") for k in fns}
+    for _ in range(rounds):
+        for k, fn in fns.items():
+            t0 = clock()
+            fn()
+            ts[k] = min(ts[k], clock() - t0)
+    return ts
+
+
 def best(fn, repeat=3):
     ts = []
     for _ in range(repeat):
@@ -51,6 +66,11 @@ def main():
     ap.add_argument("--broad", default=os.environ.get("CLINO_BROAD_DIR", str(ROOT.parent / "shared" / "data" / "broad")))
     ap.add_argument("--rows", type=int, default=1_000_000, help="rows of the simulated recording when BROAD is absent")
     ap.add_argument("--workers", default="1,2,4")
+    ap.add_argument("--repeat", type=int, default=5, help="rounds of the interleaved batch timings (best is kept)")
+    ap.add_argument("--clock", choices=["wall", "cpu"], default="wall",
+                    help="batch timings by wall clock, or by the CPU time of the calling thread "
+                         "(every batch method runs on it): on a shared machine the time the "
+                         "thread waited for a core is then left out")
     ap.add_argument("--skip-dask", action="store_true")
     ap.add_argument("--only-dask", action="store_true", help="skip the filter comparison")
     args = ap.parse_args()
@@ -82,16 +102,21 @@ def main():
     ts = 1.0 / rate
     if args.only_dask:
         return dask_part(args, files, recs, broad)
-    print(f"# clino Python benchmark on {what}; {os.cpu_count()} CPUs; best of 3")
+    if getattr(clino._clino, "DEBUG_BUILD", False):
+        print("# WARNING: the clino extension is a debug build (maturin develop without --release): not representative")
+    clock = time.thread_time if args.clock == "cpu" else time.perf_counter
+    print(f"# clino Python benchmark on {what}; {os.cpu_count()} CPUs; batch methods interleaved, best of {args.repeat} rounds, {args.clock} clock")
     print(f"{'method':<44} {'samples/s':>12} {'vs vqf batch':>12}")
 
-    results = {}
-    results["vqf.VQF(Ts).updateBatch (C++, 6-D)"] = n / best(lambda: vqf.VQF(ts).updateBatch(gyr, acc))
-    results["vqf.BasicVQF(Ts).updateBatch"] = n / best(lambda: vqf.BasicVQF(ts).updateBatch(gyr, acc))
+    batch = {
+        "vqf.VQF(Ts).updateBatch (C++, 6-D)": lambda: vqf.VQF(ts).updateBatch(gyr, acc),
+        "vqf.BasicVQF(Ts).updateBatch": lambda: vqf.BasicVQF(ts).updateBatch(gyr, acc),
+    }
     for spec in ("dynamic", "mahony", "madgwick"):
-        results[f"clino.fuse(filter={spec!r})"] = n / best(lambda: clino.fuse(gyr, acc, rate=rate, filter=spec))
-    results["clino.fuse_full (tilt + status too)"] = n / best(lambda: clino.fuse_full(gyr, acc, rate=rate))
-    results["clino.Dynamic(Ts).updateBatch"] = n / best(lambda: clino.Dynamic(ts).updateBatch(gyr, acc))
+        batch[f"clino.fuse(filter={spec!r})"] = lambda spec=spec: clino.fuse(gyr, acc, rate=rate, filter=spec)
+    batch["clino.fuse_full (tilt + status too)"] = lambda: clino.fuse_full(gyr, acc, rate=rate)
+    batch["clino.Dynamic(Ts).updateBatch"] = lambda: clino.Dynamic(ts).updateBatch(gyr, acc)
+    results = {k: n / t for k, t in interleaved(batch, args.repeat, clock).items()}
 
     m = min(n, 100_000)
 

@@ -290,6 +290,7 @@ impl Pipeline {
     }
 
     /// The current attitude, `None` before initialisation.
+    #[inline]
     pub fn attitude(&self) -> Option<Attitude> {
         self.filter.is_initialised().then(|| self.filter.attitude())
     }
@@ -331,11 +332,16 @@ impl Pipeline {
     }
 
     fn step(&mut self, sample: &ImuSample) -> Status {
+        // the sample itself when uncalibrated: no copy per sample
+        let calibrated;
         let s = match &self.calibration {
-            Some(c) => c.apply(sample),
-            None => *sample,
+            Some(c) => {
+                calibrated = c.apply(sample);
+                &calibrated
+            }
+            None => sample,
         };
-        if let Some(why) = admission(&s) {
+        if let Some(why) = admission(s) {
             return why;
         }
         let dt = match self.last_t {

@@ -11,13 +11,12 @@
 use std::io::Read;
 use std::path::PathBuf;
 
-use clino::batch::{self, ImuArrays, Strided};
-use clino::calib::{self, CalibrationFile, ModelKind, Recording, StaticOptions};
-use clino::core::pipeline::TiltOutput;
+use clino::batch::{self, ImuArrays, OutputColumns, Strided};
+use clino::calib::{self, CalibOptions, CalibrationFile, Method, Recording, StaticOptions};
 use clino::core::{Attitude, ImuSample, Vec3};
 use clino::eval::{self, Rms};
 use clino::fusion::{
-    FilterConfig, FilterSpec, FuseOptions, Output, Pipeline, Status, apply_params, parse_spec,
+    FilterConfig, FilterSpec, FuseOptions, Pipeline, Status, apply_params, parse_spec,
     parse_spec_list,
 };
 use clino::io::{
@@ -25,7 +24,7 @@ use clino::io::{
 };
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
-    PyUntypedArrayMethods,
+    PyReadwriteArray1, PyReadwriteArray2, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -128,76 +127,67 @@ fn read_options(
     })
 }
 
-fn status_code(s: Status) -> u8 {
-    Status::ALL.iter().position(|x| *x == s).unwrap_or(0) as u8
-}
-
-/// Quaternions (N·4), tilt in degrees (N·3, the CLI's columns) and status
-/// codes of pipeline outputs; NaN before initialisation.
-fn unpack(outs: &[Output], tilt: bool) -> (Vec<f64>, Vec<f64>, Vec<u8>) {
-    let mut q = Vec::with_capacity(4 * outs.len());
-    let mut d = Vec::with_capacity(if tilt { 3 * outs.len() } else { 0 });
-    let mut st = Vec::with_capacity(outs.len());
-    for o in outs {
-        match &o.attitude {
-            Some(a) => {
-                q.extend([a.w, a.i, a.j, a.k]);
-                if tilt {
-                    let t = TiltOutput::from_attitude(a);
-                    d.extend([
-                        t.roll_rad.to_degrees(),
-                        t.pitch_rad.to_degrees(),
-                        t.inclination_rad.to_degrees(),
-                    ]);
-                }
-            }
-            None => {
-                q.extend([f64::NAN; 4]);
-                if tilt {
-                    d.extend([f64::NAN; 3]);
-                }
-            }
-        }
-        st.push(status_code(o.status));
-    }
-    (q, d, st)
-}
-
 type Fused<'py> = (
     Bound<'py, PyArray2<f64>>,
     Option<Bound<'py, PyArray2<f64>>>,
     Bound<'py, PyArray1<u8>>,
 );
 
-fn to_arrays<'py>(
-    py: Python<'py>,
-    q: Vec<f64>,
-    d: Vec<f64>,
-    st: Vec<u8>,
-    tilt: bool,
-) -> PyResult<Fused<'py>> {
-    let n = st.len();
-    let q = q.into_pyarray(py).reshape([n, 4])?;
-    let d = if tilt {
-        Some(d.into_pyarray(py).reshape([n, 3])?)
-    } else {
-        None
-    };
-    Ok((q, d, st.into_pyarray(py)))
+/// [`Fused`] and the counts JSON.
+type FusedWithCounts<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Option<Bound<'py, PyArray2<f64>>>,
+    Bound<'py, PyArray1<u8>>,
+    String,
+);
+
+/// One sample's outputs: quaternion and tilt (None before initialisation), status code.
+type OneSample = (Option<[f64; 4]>, Option<[f64; 3]>, u8);
+
+/// The output arrays of `n` rows, allocated once (zeroed: `calloc`, pages
+/// touched only when written): quaternions (N, 4), tilt in degrees (N, 3,
+/// when `tilt`) and status codes (N,).
+fn new_outputs<'py>(py: Python<'py>, n: usize, tilt: bool) -> Fused<'py> {
+    (
+        PyArray2::zeros(py, [n, 4], false),
+        tilt.then(|| PyArray2::zeros(py, [n, 3], false)),
+        PyArray1::zeros(py, n, false),
+    )
 }
 
-fn empty_outputs(n: usize) -> Vec<Output> {
-    vec![
-        Output {
-            status: Status::Waiting,
-            attitude: None
-        };
-        n
-    ]
+/// Write access to the output arrays of [`new_outputs`] (C-contiguous, owned
+/// by nobody else yet) as the library's [`OutputColumns`].
+struct OutBuffers<'py> {
+    q: PyReadwriteArray2<'py, f64>,
+    d: Option<PyReadwriteArray2<'py, f64>>,
+    st: PyReadwriteArray1<'py, u8>,
+}
+
+impl<'py> OutBuffers<'py> {
+    fn new(o: &Fused<'py>) -> Self {
+        Self {
+            q: o.0.readwrite(),
+            d: o.1.as_ref().map(|d| d.readwrite()),
+            st: o.2.readwrite(),
+        }
+    }
+
+    fn columns(&mut self) -> PyResult<OutputColumns<'_>> {
+        Ok(OutputColumns {
+            quat: self.q.as_slice_mut()?.as_chunks_mut::<4>().0,
+            tilt_deg: match self.d.as_mut() {
+                Some(d) => Some(d.as_slice_mut()?.as_chunks_mut::<3>().0),
+                None => None,
+            },
+            status: Some(self.st.as_slice_mut()?),
+        })
+    }
 }
 
 /// Fuse arrays (see `clino.fuse`): returns (quat (N,4), tilt_deg (N,3) or
-/// None, status codes (N,), counts JSON).
+/// None, status codes (N,), counts JSON). The inputs are read in place; the
+/// outputs are allocated once and the library writes every row into them
+/// with the GIL released.
 #[pyfunction]
 #[pyo3(signature = (gyr, acc, t=None, rate=None, filter="dynamic", lever_arm=None, calibration=None, offline=false, params=Vec::new(), temp_c=None, tilt=true))]
 #[allow(clippy::too_many_arguments)]
@@ -214,12 +204,7 @@ fn fuse<'py>(
     params: Vec<(String, String)>,
     temp_c: Option<PyReadonlyArray1<'py, f64>>,
     tilt: bool,
-) -> PyResult<(
-    Bound<'py, PyArray2<f64>>,
-    Option<Bound<'py, PyArray2<f64>>>,
-    Bound<'py, PyArray1<u8>>,
-    String,
-)> {
+) -> PyResult<FusedWithCounts<'py>> {
     let cfg = config(filter, &params, lever_arm, offline).py(py)?;
     let g = strided(&gyr, "gyr")?;
     let a = strided(&acc, "acc")?;
@@ -227,15 +212,15 @@ fn fuse<'py>(
     let tc = temp_c.as_ref().map(|x| slice(x, "temp_c")).transpose()?;
     let mut arrays = ImuArrays::new(ts, rate, g, a);
     arrays.temp_c = tc;
-    let cal = calibration.as_ref().map(|c| c.file.clone());
-    let res = py.detach(|| -> clino::Result<_> {
-        let mut outs = empty_outputs(arrays.len());
-        let rep = batch::fuse_arrays(&arrays, &cfg, cal.as_ref(), &mut outs)?;
-        let (q, d, st) = unpack(&outs, tilt);
-        Ok((q, d, st, rep))
-    });
-    let (q, d, st, rep) = res.py(py)?;
-    let (q, d, st) = to_arrays(py, q, d, st, tilt)?;
+    let cal = calibration.as_ref().map(|c| &c.file);
+    let out = new_outputs(py, arrays.len(), tilt);
+    let rep = {
+        let mut bufs = OutBuffers::new(&out);
+        let mut cols = bufs.columns()?;
+        py.detach(|| batch::fuse_arrays_into(&arrays, &cfg, cal, &mut cols))
+            .py(py)?
+    };
+    let (q, d, st) = out;
     Ok((q, d, st, json(&rep)?))
 }
 
@@ -250,32 +235,36 @@ struct PyPipeline {
 }
 
 impl PyPipeline {
-    fn run<'py>(
+    /// The rows of `g`, `a` (and `t`, `tc`) through the pipeline, each
+    /// row's outputs into `out`; with the GIL released when `detach`.
+    #[allow(clippy::too_many_arguments)]
+    fn run(
         &mut self,
-        py: Python<'py>,
+        py: Python<'_>,
         g: Strided<'_>,
         a: Strided<'_>,
         t: Option<&[f64]>,
         tc: Option<&[f64]>,
-        tilt: bool,
-    ) -> PyResult<(Vec<f64>, Vec<f64>, Vec<u8>)> {
+        out: &mut OutputColumns,
+        detach: bool,
+    ) -> PyResult<()> {
         let mut arrays = ImuArrays::new(t, if t.is_some() { None } else { self.rate }, g, a);
         arrays.temp_c = tc;
         arrays.first_row = self.rows;
         arrays.prev_t_s = self.last_t;
         let p = &mut self.pipeline;
-        let res = py.detach(|| -> clino::Result<_> {
-            let mut outs = empty_outputs(arrays.len());
-            batch::run_arrays(p, &arrays, &mut outs)?;
-            Ok(unpack(&outs, tilt))
-        });
-        let out = res.py(py)?;
+        if detach {
+            py.detach(|| batch::run_arrays_into(p, &arrays, out))
+        } else {
+            batch::run_arrays_into(p, &arrays, out)
+        }
+        .py(py)?;
         let n = arrays.len();
         if n > 0 {
             self.last_t = Some(arrays.time(n - 1));
         }
         self.rows += n as u64;
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -314,23 +303,32 @@ impl PyPipeline {
         acc: [f64; 3],
         t: Option<f64>,
         temp_c: Option<f64>,
-    ) -> PyResult<(Option<[f64; 4]>, Option<[f64; 3]>, u8)> {
+    ) -> PyResult<OneSample> {
         let tt = t.map(|x| [x]);
         let tc = temp_c.map(|x| [x]);
-        let (q, d, st) = self.run(
+        let (mut q, mut d, mut st) = ([[0.0; 4]], [[0.0; 3]], [0u8]);
+        let mut out = OutputColumns {
+            quat: &mut q,
+            tilt_deg: Some(&mut d),
+            status: Some(&mut st),
+        };
+        // one sample: not worth releasing and taking the GIL again
+        self.run(
             py,
             Strided::rows(&gyr, 1),
             Strided::rows(&acc, 1),
             tt.as_ref().map(|x| &x[..]),
             tc.as_ref().map(|x| &x[..]),
-            true,
+            &mut out,
+            false,
         )?;
-        let q = q[0].is_finite().then(|| [q[0], q[1], q[2], q[3]]);
-        let d = q.map(|_| [d[0], d[1], d[2]]);
+        let q = q[0][0].is_finite().then_some(q[0]);
+        let d = q.map(|_| d[0]);
         Ok((q, d, st[0]))
     }
 
-    /// A batch of samples: (quat (N,4), tilt_deg (N,3) or None, status (N,)).
+    /// A batch of samples: (quat (N,4), tilt_deg (N,3) or None, status (N,)),
+    /// written straight into the arrays with the GIL released.
     #[pyo3(signature = (gyr, acc, t=None, temp_c=None, tilt=true))]
     fn update_batch<'py>(
         &mut self,
@@ -345,8 +343,12 @@ impl PyPipeline {
         let a = strided(&acc, "acc")?;
         let ts = t.as_ref().map(|x| slice(x, "t")).transpose()?;
         let tc = temp_c.as_ref().map(|x| slice(x, "temp_c")).transpose()?;
-        let (q, d, st) = self.run(py, g, a, ts, tc, tilt)?;
-        to_arrays(py, q, d, st, tilt)
+        let out = new_outputs(py, g.len(), tilt);
+        {
+            let mut bufs = OutBuffers::new(&out);
+            self.run(py, g, a, ts, tc, &mut bufs.columns()?, true)?;
+        }
+        Ok(out)
     }
 
     /// Back to the state before the first sample.
@@ -906,8 +908,10 @@ impl PyCalibration {
     }
 }
 
-/// Fit a calibration from a recording, as `clino calibrate KIND` does:
-/// (JSON of the fit as `--json` prints it, the calibration file holding the entry).
+/// Fit a calibration from a recording by the library call behind `clino
+/// calibrate KIND` (`clino::calib::calibrate`: the same choice of method):
+/// (JSON of the result as `--json` prints it, the calibration file holding
+/// the entry, the notes the CLI prints as `clino: note: …`).
 #[pyfunction]
 #[pyo3(signature = (kind, path, model="mwd12", g=clino::core::G0, field_ut=None, window_s=0.5, min_pose_s=1.0, accel_calibration=None))]
 #[allow(clippy::too_many_arguments)]
@@ -921,7 +925,7 @@ fn calibrate(
     window_s: f64,
     min_pose_s: f64,
     accel_calibration: Option<PyRef<'_, PyCalibration>>,
-) -> PyResult<(String, PyCalibration)> {
+) -> PyResult<(String, PyCalibration, Vec<String>)> {
     use clino::core::sensor::TriadKind;
     let kind = match kind {
         "accel" => TriadKind::Accel,
@@ -933,85 +937,26 @@ fn calibrate(
             )));
         }
     };
-    let accel = accel_calibration.and_then(|c| c.file.accel.as_ref().map(|e| e.calibration()));
-    let res = py.detach(|| -> clino::Result<(serde_json::Value, calib::TriadEntry)> {
-        let rec = Recording::load(&path)?;
-        let statics = StaticOptions {
+    let method = Method::parse(model).py(py)?;
+    // every triad reads only the settings it needs, as in `clino calibrate`
+    let opts = CalibOptions {
+        statics: StaticOptions {
             window_s,
             min_duration_s: min_pose_s,
-            use_mag: kind == TriadKind::Mag && rec.acc.is_none(),
             ..Default::default()
-        };
-        let name = path.display().to_string();
-        let js = |v: serde_json::Result<serde_json::Value>| {
-            v.map_err(|e| clino::Error::new(clino::ErrorKind::InvalidInput, e.to_string()))
-        };
-        Ok(match (kind, model) {
-            (TriadKind::Accel, "six") => {
-                let report = calib::detect_static(&rec, &statics)?;
-                let s = calib::six::six_position(&report.poses, g)?;
-                let e = calib::entry(
-                    kind,
-                    s.calibration,
-                    &format!("six-position method, {name}"),
-                    "the fixture defines the axes: all 12 parameters determined",
-                    Default::default(),
-                );
-                (js(serde_json::to_value(serde_json::json!({"static": report, "six_position": s})))?, e)
-            }
-            (TriadKind::Accel, m) => {
-                let mk = ModelKind::parse(m)?;
-                let (report, fit) = calib::calibrate_accel(&rec, mk, &statics, g)?;
-                let e = calib::entry_from_fit(
-                    &fit,
-                    &format!("{} multi-position fit, {} poses, {name}", mk.name(), fit.observations),
-                );
-                (js(serde_json::to_value(serde_json::json!({"static": report, "fit": fit})))?, e)
-            }
-            (TriadKind::Mag, m) => {
-                let mk = ModelKind::parse(m)?;
-                let fit = calib::calibrate_mag(&rec, mk, field_ut)?;
-                let e = calib::entry_from_fit(
-                    &fit,
-                    &format!("{} ellipsoid fit, {} samples, {name}", mk.name(), fit.observations),
-                );
-                (js(serde_json::to_value(serde_json::json!({"fit": fit})))?, e)
-            }
-            (TriadKind::Gyro, m) => {
-                let mk = ModelKind::parse(m)?;
-                if rec.ref_gyr.is_some() {
-                    let fit = calib::gyro::rate_table(&rec, mk)?;
-                    let e = calib::entry_from_fit(
-                        &fit,
-                        &format!("{} rate-table fit, {} segments, {name}", mk.name(), fit.observations),
-                    );
-                    (js(serde_json::to_value(serde_json::json!({"fit": fit})))?, e)
-                } else {
-                    if mk != ModelKind::Matrix {
-                        return Err(clino::Error::new(
-                            clino::ErrorKind::InvalidInput,
-                            "without a rate table (ref_gyr_*_rad_s columns) the gyro is calibrated from rotations between static poses, with the matrix model only (model='matrix')",
-                        ));
-                    }
-                    let report = calib::detect_static(&rec, &statics)?;
-                    let r = calib::gyro::from_rotations(&rec, &report.poses, accel.as_ref())?;
-                    let sigma = r.params.iter().map(|p| (p.name.clone(), p.sigma)).collect();
-                    let e = calib::entry(
-                        kind,
-                        r.calibration,
-                        &format!("rotations between {} static poses, {name}", report.poses.len()),
-                        "gravity directions fix the frame to the accelerometer's; bias is the mean static reading (Earth rate neglected)",
-                        sigma,
-                    );
-                    (js(serde_json::to_value(serde_json::json!({"static": report, "rotations": r})))?, e)
-                }
-            }
-        })
+        },
+        g_m_s2: g,
+        field_ut,
+        accel: accel_calibration.and_then(|c| c.file.accel.as_ref().map(|e| e.calibration())),
+    };
+    let res = py.detach(|| -> clino::Result<calib::Calibration> {
+        let rec = Recording::load(&path)?;
+        calib::calibrate(kind, method, &rec, &path.display().to_string(), &opts)
     });
-    let (v, entry) = res.py(py)?;
+    let cal = res.py(py)?;
     let mut file = CalibrationFile::default();
-    file.set(kind, entry);
-    Ok((v.to_string(), PyCalibration { file }))
+    file.set(kind, cal.entry.clone());
+    Ok((cal.to_json().to_string(), PyCalibration { file }, cal.notes))
 }
 
 /// `clino survey` (JSON of the report).
@@ -1317,6 +1262,8 @@ fn redundancy_diagnose(
 fn _clino(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ClinoError", m.py().get_type::<ClinoError>())?;
     m.add("G0", clino::core::G0)?;
+    // a `maturin develop` build without --release: timings are not representative
+    m.add("DEBUG_BUILD", cfg!(debug_assertions))?;
     m.add_class::<PyPipeline>()?;
     m.add_class::<PyCalibration>()?;
     m.add_function(wrap_pyfunction!(fuse, m)?)?;

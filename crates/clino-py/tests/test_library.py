@@ -19,9 +19,10 @@ def rot(axis, ang):
     return np.eye(3) + math.sin(ang) * k + (1 - math.cos(ang)) * k @ k
 
 
-def multi_position(path, k_true, b_true, seed=3):
+def multi_position(path, k_true, b_true, seed=3, gyro=False):
     """A static multi-position recording: 14 poses of 2.5 s at 100 Hz, 1 s
-    rotations between them; raw = K·f + b + noise (m/s²)."""
+    rotations between them; raw = K·f + b + noise (m/s²); with ``gyro`` the
+    gyro columns too (the rotation rates)."""
     rng = np.random.default_rng(seed)
     dirs = [(0, 0, 1), (0, 0, -1), (1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0),
             (1, 1, 1), (-1, 1, -1), (1, -1, -1), (-1, -1, 1), (1, 0, 1), (0, 1, -1), (-1, 1, 0), (1, -1, 0.5)]
@@ -42,14 +43,17 @@ def multi_position(path, k_true, b_true, seed=3):
                 axis = np.array([1.0, 0, 0]) if abs(u[0]) < 0.9 else np.array([0, 1.0, 0])
             for j in range(100):
                 w = ang / 1.0 * axis / np.linalg.norm(axis)
+                if gyro:  # a real gyro is noisy while turning too
+                    w = w + rng.normal(0, 1e-4, 3)
                 f = G * (rot(axis, ang * (j + 1) / 100) @ u)
                 raw = k_true @ f + b_true + rng.normal(0, 0.002, 3)
                 rows.append([t, *w, *raw])
                 t += dt
     a = np.array(rows)
-    clino.write_table(path, {
-        "t_s": a[:, 0], "acc_x_m_s2": a[:, 4], "acc_y_m_s2": a[:, 5], "acc_z_m_s2": a[:, 6],
-    })
+    cols = {"t_s": a[:, 0], "acc_x_m_s2": a[:, 4], "acc_y_m_s2": a[:, 5], "acc_z_m_s2": a[:, 6]}
+    if gyro:
+        cols.update({"gyr_x_rad_s": a[:, 1], "gyr_y_rad_s": a[:, 2], "gyr_z_rad_s": a[:, 3]})
+    clino.write_table(path, cols)
     return ups
 
 
@@ -75,6 +79,32 @@ def test_calibration_fit_equals_cli_and_recovers_the_truth(cli, tmp_path):
     # applied in the pipeline: a recording at rest on pose 0 gives its tilt
     q = clino.fuse(np.zeros((200, 3)), np.tile(raw[0], (200, 1)), rate=100.0, filter="mahony", calibration=cal)
     assert np.all(np.isfinite(q[-1]))
+
+
+def test_calibrate_chooses_the_method_as_the_cli(cli, tmp_path):
+    rec = tmp_path / "poses.csv"
+    multi_position(rec, np.eye(3), np.zeros(3), gyro=True)
+    # gyro without a rate table: rotations between static poses, as `clino calibrate gyro`
+    want = cli_json(cli, "calibrate", "gyro", rec, "--model", "matrix", "-o", tmp_path / "g.toml")
+    with pytest.warns(UserWarning, match="uncalibrated accelerometer"):
+        got, cal = clino.calibrate("gyro", rec, "matrix")
+    assert set(got) == {"static", "rotations"}
+    assert got == want
+    assert clino.Calibration.load(str(tmp_path / "g.toml")).to_json() == cal.to_json()
+    # the CLI's refusals: another model from rotations, the six-position method for the gyro
+    with pytest.raises(clino.ClinoError, match="matrix model only"):
+        clino.calibrate("gyro", rec, "mwd12")
+    with pytest.raises(clino.ClinoError, match="accelerometer only"):
+        clino.calibrate("gyro", rec, "six")
+    with pytest.raises(clino.ClinoError, match="unknown model 'mwd13'"):
+        clino.calibrate("accel", rec, "mwd13")
+    # with the accelerometer calibration given, no note
+    _, acal = clino.calibrate("accel", rec, "matrix")
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        clino.calibrate("gyro", rec, "matrix", accel_calibration=acal)
 
 
 def stations(path):

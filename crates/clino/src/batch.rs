@@ -37,6 +37,7 @@
 use std::io::Read;
 use std::path::PathBuf;
 
+use clino_core::pipeline::TiltOutput;
 use clino_core::{ImuSample, Vec3};
 use serde::Serialize;
 
@@ -243,26 +244,131 @@ impl<'a> ImuArrays<'a> {
     }
 }
 
-/// Rows handed to [`Pipeline::update_batch`] at a time (a few kB of samples:
-/// they stay in cache, and nothing in memory grows with the recording).
+/// Rows handed to [`Pipeline::update_batch`] at a time by callers that
+/// stage samples in a buffer (a few kB of samples: they stay in cache).
+/// [`run_arrays`] and [`run_arrays_into`] no longer stage: they read each
+/// row where it lies and hand it to [`Pipeline::update`] directly.
 pub const CHUNK: usize = 1024;
 
-/// Feed `arrays` through `pipeline` ([`Pipeline::update_batch`], in chunks
-/// of [`CHUNK`] rows), one [`Output`] per row into `out` (at least as long).
-/// The arrays are checked first ([`ImuArrays::validate`]).
+/// The code of a status: its index in [`Status::ALL`] (the `status_code`
+/// column of the Python package).
+#[inline]
+pub const fn status_code(s: Status) -> u8 {
+    match s {
+        Status::Waiting => 0,
+        Status::Initialised => 1,
+        Status::Fused => 2,
+        Status::GyroOnly => 3,
+        Status::Dropout => 4,
+        Status::Saturated => 5,
+    }
+}
+
+/// Per-row outputs written straight into a caller's buffers (the memory of
+/// NumPy arrays), with no [`Output`] array in between: row k of the input
+/// fills element k of each buffer.
+///
+/// * `quat`: the attitude w, x, y, z (body → ENU); NaN before initialisation;
+/// * `tilt_deg` (optional): aerospace roll, pitch and the inclination,
+///   degrees — the `roll_deg`, `pitch_deg`, `inclination_deg` columns of
+///   `clino fuse`, by the same functions; NaN before initialisation;
+/// * `status` (optional): [`status_code`] of each row.
+///
+/// Each buffer must be at least as long as the input; elements past it are
+/// untouched.
+#[derive(Debug)]
+pub struct OutputColumns<'a> {
+    /// w, x, y, z per row.
+    pub quat: &'a mut [[f64; 4]],
+    /// Roll, pitch, inclination per row, degrees.
+    pub tilt_deg: Option<&'a mut [[f64; 3]]>,
+    /// Status code per row.
+    pub status: Option<&'a mut [u8]>,
+}
+
+impl<'a> OutputColumns<'a> {
+    /// Quaternions only.
+    pub fn quat(quat: &'a mut [[f64; 4]]) -> Self {
+        Self {
+            quat,
+            tilt_deg: None,
+            status: None,
+        }
+    }
+
+    /// Error unless every buffer holds at least `n` rows.
+    fn check(&self, n: usize) -> Result<()> {
+        let short = self.quat.len() < n
+            || self.tilt_deg.as_ref().is_some_and(|d| d.len() < n)
+            || self.status.as_ref().is_some_and(|s| s.len() < n);
+        if short {
+            return Err(invalid("output shorter than the input"));
+        }
+        Ok(())
+    }
+
+    /// Write row `k` from `o`.
+    #[inline]
+    pub fn put(&mut self, k: usize, o: &Output) {
+        match &o.attitude {
+            Some(a) => {
+                self.quat[k] = [a.w, a.i, a.j, a.k];
+                if let Some(d) = self.tilt_deg.as_deref_mut() {
+                    let t = TiltOutput::from_attitude(a);
+                    d[k] = [
+                        t.roll_rad.to_degrees(),
+                        t.pitch_rad.to_degrees(),
+                        t.inclination_rad.to_degrees(),
+                    ];
+                }
+            }
+            None => {
+                self.quat[k] = [f64::NAN; 4];
+                if let Some(d) = self.tilt_deg.as_deref_mut() {
+                    d[k] = [f64::NAN; 3];
+                }
+            }
+        }
+        if let Some(s) = self.status.as_deref_mut() {
+            s[k] = status_code(o.status);
+        }
+    }
+}
+
+/// The one loop over arrays: row k (read where it lies) through
+/// [`Pipeline::update`], its output handed to `put(k, &output)`. The
+/// arrays must have been validated.
+#[inline]
+fn run_rows(pipeline: &mut Pipeline, arrays: &ImuArrays, mut put: impl FnMut(usize, &Output)) {
+    for k in 0..arrays.len() {
+        let o = pipeline.update(&arrays.sample(k));
+        put(k, &o);
+    }
+}
+
+/// Feed `arrays` through `pipeline` ([`Pipeline::update`] row by row, the
+/// code of [`Pipeline::update_batch`]), one [`Output`] per row into `out`
+/// (at least as long). The arrays are checked first ([`ImuArrays::validate`]).
 pub fn run_arrays(pipeline: &mut Pipeline, arrays: &ImuArrays, out: &mut [Output]) -> Result<()> {
     arrays.validate()?;
-    let n = arrays.len();
-    if out.len() < n {
+    if out.len() < arrays.len() {
         return Err(invalid("output shorter than the input"));
     }
-    let mut buf = Vec::with_capacity(CHUNK.min(n));
-    for start in (0..n).step_by(CHUNK) {
-        let end = (start + CHUNK).min(n);
-        buf.clear();
-        buf.extend((start..end).map(|k| arrays.sample(k)));
-        pipeline.update_batch(&buf, &mut out[start..end]);
-    }
+    run_rows(pipeline, arrays, |k, o| out[k] = *o);
+    Ok(())
+}
+
+/// [`run_arrays`] writing each row's outputs straight into `out`'s buffers
+/// ([`OutputColumns::put`]): the same loop, so the numbers are equal to the
+/// bit, without an [`Output`] per row in memory.
+pub fn run_arrays_into(
+    pipeline: &mut Pipeline,
+    arrays: &ImuArrays,
+    out: &mut OutputColumns,
+) -> Result<()> {
+    arrays.validate()?;
+    out.check(arrays.len())?;
+    run_rows(pipeline, arrays, |k, o| out.put(k, o));
     Ok(())
 }
 
@@ -290,16 +396,52 @@ pub fn fuse_arrays(
     out: &mut [Output],
 ) -> Result<FuseReport> {
     arrays.validate()?;
-    let n = arrays.len();
-    if out.len() < n {
+    if out.len() < arrays.len() {
         return Err(invalid("output shorter than the input"));
     }
+    fuse_rows(arrays, config, calibration, |k, o| out[k] = *o)
+}
+
+/// [`fuse_arrays`] writing each row's outputs straight into `out`'s buffers
+/// ([`OutputColumns::put`]): the same stages and loop, so the numbers are
+/// equal to the bit (and to `clino fuse` on the same recording), with
+/// nothing allocated per row (the offline smoother keeps the recording, as
+/// it must).
+pub fn fuse_arrays_into(
+    arrays: &ImuArrays,
+    config: &FilterConfig,
+    calibration: Option<&CalibrationFile>,
+    out: &mut OutputColumns,
+) -> Result<FuseReport> {
+    arrays.validate()?;
+    out.check(arrays.len())?;
+    fuse_rows(arrays, config, calibration, |k, o| out.put(k, o))
+}
+
+/// The stages of [`fuse_arrays`] over validated arrays, each row's output
+/// handed to `put(k, &output)` in order.
+fn fuse_rows(
+    arrays: &ImuArrays,
+    config: &FilterConfig,
+    calibration: Option<&CalibrationFile>,
+    mut put: impl FnMut(usize, &Output),
+) -> Result<FuseReport> {
+    let n = arrays.len();
     if let Some(cal) = calibration {
         for k in 0..n {
             check_row(cal, &arrays.sample(k), arrays.first_row + k as u64)?;
         }
     }
     let mut report = FuseReport::default();
+    let mut put = |k: usize, o: &Output| {
+        report.counts.record(o.status);
+        if matches!(o.status, Status::Dropout | Status::Saturated) {
+            report
+                .first_dropout_line
+                .get_or_insert(arrays.first_row + k as u64);
+        }
+        put(k, o);
+    };
     if config.offline {
         let samples: Vec<ImuSample> = (0..n)
             .map(|k| {
@@ -311,20 +453,14 @@ pub fn fuse_arrays(
             })
             .collect();
         let outs = offline_outputs(config, &samples)?;
-        out[..n].copy_from_slice(&outs);
+        for (k, o) in outs.iter().enumerate() {
+            put(k, o);
+        }
     } else {
         let mut p = config
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
-        run_arrays(&mut p, arrays, out)?;
-    }
-    for (k, o) in out[..n].iter().enumerate() {
-        report.counts.record(o.status);
-        if matches!(o.status, Status::Dropout | Status::Saturated) {
-            report
-                .first_dropout_line
-                .get_or_insert(arrays.first_row + k as u64);
-        }
+        run_rows(&mut p, arrays, put);
     }
     Ok(report)
 }
@@ -563,6 +699,104 @@ mod tests {
                     assert_eq!(o.status.as_str(), r[8]);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn columns_equal_the_file_run_to_the_bit_with_tilt_and_status() {
+        let n = 1500;
+        let (s, t, g, a) = text(n);
+        for cfg in [
+            FilterConfig::new(FilterKind::Dynamic),
+            FilterConfig::new(FilterKind::Madgwick).with_lever_arm(Some(Vec3::new(0.0, 0.05, 0.0))),
+            FilterConfig::new(FilterKind::Dynamic).with_offline(true),
+        ] {
+            let rows = csv_rows(&s, &cfg);
+            let arr = ImuArrays::new(Some(&t), None, Strided::rows(&g, n), Strided::rows(&a, n));
+            // one row longer than the input: the extra row must stay untouched
+            let mut q = vec![[7.0; 4]; n + 1];
+            let mut d = vec![[7.0; 3]; n + 1];
+            let mut st = vec![99u8; n + 1];
+            let mut cols = OutputColumns {
+                quat: &mut q,
+                tilt_deg: Some(&mut d),
+                status: Some(&mut st),
+            };
+            let rep = fuse_arrays_into(&arr, &cfg, None, &mut cols).unwrap();
+            assert_eq!(rep.counts.samples, n as u64);
+            assert_eq!(rep.counts.dropouts, 1);
+            assert_eq!(rep.first_dropout_line, Some(37));
+            for k in 0..n {
+                let r = &rows[k];
+                let num = |j: usize| -> f64 { r[j].parse().unwrap() };
+                assert_eq!(
+                    q[k],
+                    [num(1), num(2), num(3), num(4)],
+                    "{} row {k}",
+                    cfg.label()
+                );
+                assert_eq!(d[k], [num(5), num(6), num(7)], "{} row {k}", cfg.label());
+                assert_eq!(Status::ALL[st[k] as usize].as_str(), r[8]);
+            }
+            assert_eq!((q[n], d[n], st[n]), ([7.0; 4], [7.0; 3], 99));
+            // quaternions only: the same numbers
+            let mut q2 = vec![[0.0; 4]; n];
+            fuse_arrays_into(&arr, &cfg, None, &mut OutputColumns::quat(&mut q2)).unwrap();
+            assert_eq!(q2[..], q[..n]);
+        }
+    }
+
+    #[test]
+    fn columns_before_initialisation_are_nan_and_short_buffers_are_refused() {
+        // zero specific force: the filter cannot take tilt, no attitude yet
+        let g = vec![0.0; 6];
+        let a = vec![0.0; 6];
+        let arr = ImuArrays::new(
+            None,
+            Some(100.0),
+            Strided::rows(&g, 2),
+            Strided::rows(&a, 2),
+        );
+        let mut p = FilterConfig::new(FilterKind::Dynamic).pipeline().unwrap();
+        let (mut q, mut d, mut st) = (vec![[0.0; 4]; 2], vec![[0.0; 3]; 2], vec![9u8; 2]);
+        let mut cols = OutputColumns {
+            quat: &mut q,
+            tilt_deg: Some(&mut d),
+            status: Some(&mut st),
+        };
+        run_arrays_into(&mut p, &arr, &mut cols).unwrap();
+        assert!(
+            q.iter()
+                .flatten()
+                .chain(d.iter().flatten())
+                .all(|x| x.is_nan())
+        );
+        assert_eq!(st, [status_code(Status::Waiting); 2]);
+        let mut short = vec![[0.0; 4]; 1];
+        let e = run_arrays_into(&mut p, &arr, &mut OutputColumns::quat(&mut short)).unwrap_err();
+        assert!(e.message.contains("shorter"), "{}", e.message);
+        let mut q3 = vec![[0.0; 4]; 2];
+        let mut st1 = vec![0u8; 1];
+        let mut cols = OutputColumns {
+            quat: &mut q3,
+            tilt_deg: None,
+            status: Some(&mut st1),
+        };
+        assert!(
+            fuse_arrays_into(
+                &arr,
+                &FilterConfig::new(FilterKind::Dynamic),
+                None,
+                &mut cols
+            )
+            .is_err()
+        );
+    }
+
+    #[test]
+    fn status_codes_are_the_positions_in_all() {
+        for (i, s) in Status::ALL.iter().enumerate() {
+            assert_eq!(status_code(*s) as usize, i, "{}", s.as_str());
         }
     }
 

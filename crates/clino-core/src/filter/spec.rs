@@ -726,9 +726,11 @@ impl AttitudeFilter for AnyFilter {
         }
         each!(self, f => f.update(gyr, acc, dt))
     }
+    #[inline]
     fn attitude(&self) -> Attitude {
         each!(self, f => f.attitude())
     }
+    #[inline]
     fn is_initialised(&self) -> bool {
         each!(self, f => f.is_initialised())
     }

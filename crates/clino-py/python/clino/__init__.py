@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import json as _json
 import os as _os
+import warnings as _warnings
 from typing import Any, Dict, Iterable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as _np
@@ -74,7 +75,8 @@ PathLike = Union[str, "_os.PathLike[str]"]
 
 
 def _vec3_array(x: Any, name: str) -> _np.ndarray:
-    """A float64 (N, 3) array, in place when already C- or Fortran-contiguous."""
+    """A float64 (N, 3) array: ``x`` itself when it already is one, C- or
+    Fortran-contiguous (read in place by the extension); else a converted copy."""
     a = _np.asarray(x, dtype=_np.float64)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"{name} must have shape (N, 3), got {a.shape}")
@@ -170,8 +172,13 @@ def fuse(
     Returns
     -------
     (N, 4) float64 array of w, x, y, z (body → ENU); NaN rows before the filter
-    has initialised. C- and Fortran-ordered inputs are read in place; the GIL is
-    released while the filter runs.
+    has initialised.
+
+    C- and Fortran-ordered float64 inputs are read in place, without a copy;
+    any other input (another dtype, a list, a strided view) is converted once
+    to a float64 array (a copy) first. The output array is allocated once and
+    the library writes each row's quaternion straight into it, with the GIL
+    released while the filter runs: nothing is allocated per row.
     """
     q, _, _, _ = _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, False, params)
     return q
@@ -544,16 +551,31 @@ def calibrate(
 ) -> Tuple[Dict[str, Any], Calibration]:
     """``clino calibrate accel|gyro|mag``: fit a calibration from a recording.
 
+    The library call behind the CLI (``clino::calib::calibrate``), so the method
+    is chosen exactly as ``clino calibrate`` chooses it: accelerometer — static
+    poses, then the multi-position fit of ``model`` or, with ``model="six"``, the
+    six-position method; gyro — a rate-table fit when the recording has the
+    ``ref_gyr_*_rad_s`` columns, else rotations between static poses (``matrix``
+    only); magnetometer — the ellipsoid fit.
+
     Returns (the dict ``--json`` prints — the fit with every parameter's
-    ``value`` and 1σ ``sigma`` — and a :class:`Calibration` holding the entry,
-    ready for :func:`fuse` or :meth:`Calibration.save`). ``model``: ``matrix``,
-    ``mwd12`` …, or ``six`` (accelerometer six-position method).
-    ``g`` m/s², ``field_ut`` µT, ``window_s``/``min_pose_s`` s (static detection).
+    ``value`` and 1σ ``sigma``, and the static poses where they were detected —
+    and a :class:`Calibration` holding the entry, ready for :func:`fuse` or
+    :meth:`Calibration.save`). ``model``: ``matrix``, ``mwd12``, ``mwd30``, or
+    ``six`` (accelerometer only). ``g`` m/s² (accelerometer), ``field_ut`` µT
+    (magnetometer; default the mean raw magnitude), ``window_s``/``min_pose_s``
+    s (static detection), ``accel_calibration`` (gyro from rotations: the
+    accelerometer calibration giving the gravity directions). What the CLI
+    prints as ``clino: note: …`` (e.g. gravity directions from a raw
+    accelerometer) is issued as a :class:`UserWarning`. Errors carry the CLI's
+    message.
     """
-    js, cal = _clino.calibrate(
+    js, cal, notes = _clino.calibrate(
         kind, _os.fspath(path), model=model, g=g, field_ut=field_ut, window_s=window_s,
         min_pose_s=min_pose_s, accel_calibration=_calibration(accel_calibration),
     )
+    for n in notes:
+        _warnings.warn(f"clino: note: {n}", UserWarning, stacklevel=2)
     return _json.loads(js), cal
 
 

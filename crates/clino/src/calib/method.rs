@@ -26,6 +26,25 @@ pub enum Method {
     SixPosition,
 }
 
+impl Method {
+    /// The method by the name `clino calibrate --model` takes: a model of
+    /// [`ModelKind::parse`] (`matrix`, `mwd12`, `mwd30`: a fit) or `six`
+    /// (the six-position method, accelerometer only).
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "six" => Ok(Method::SixPosition),
+            m => ModelKind::parse(m).map(Method::Fit).map_err(|_| {
+                Error::new(
+                    ErrorKind::InvalidInput,
+                    format!(
+                        "unknown model '{s}' (matrix, mwd12, mwd30; six: the six-position method)"
+                    ),
+                )
+            }),
+        }
+    }
+}
+
 /// Settings of [`calibrate`] (each used by the triads that need it).
 #[derive(Clone, Debug)]
 pub struct CalibOptions {

@@ -377,3 +377,22 @@ fn demo_summary_shows_improvement() {
     let s = demo_summary().unwrap();
     assert!(s.contains("MWD 30 parameters"), "{s}");
 }
+
+#[test]
+fn method_names_are_the_cli_model_names() {
+    use super::method::Method;
+    assert_eq!(Method::parse("six").unwrap(), Method::SixPosition);
+    for (s, m) in [
+        ("matrix", ModelKind::Matrix),
+        ("mwd12", ModelKind::Mwd12),
+        ("mwd30", ModelKind::Mwd30),
+    ] {
+        assert_eq!(Method::parse(s).unwrap(), Method::Fit(m));
+    }
+    let e = Method::parse("mwd13").unwrap_err();
+    assert!(
+        e.message.contains("mwd13") && e.message.contains("six"),
+        "{}",
+        e.message
+    );
+}
