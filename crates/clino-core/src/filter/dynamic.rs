@@ -649,11 +649,11 @@ impl AttitudeFilter for Dynamic {
                 let fu = 2.0 * (qx * qz - qw * qy) * acc.x
                     + 2.0 * (qy * qz + qw * qx) * acc.y
                     + (1.0 - 2.0 * (qx * qx + qy * qy)) * acc.z;
-                let rr = [[r00, r01, r02], [r10, r11, r12]];
-                for j in 0..3 {
+                let (row_e, row_n) = ([r00, r01, r02], [r10, r11, r12]);
+                for (j, (&re, &rn)) in row_e.iter().zip(&row_n).enumerate() {
                     let (px, py, pz) = (sn.phi[(0, j)], sn.phi[(1, j)], sn.phi[(2, j)]);
-                    let dfe = py * fu - pz * fnn + rr[0][j];
-                    let dfn = pz * fe - px * fu + rr[1][j];
+                    let dfe = py * fu - pz * fnn + re;
+                    let dfn = pz * fe - px * fu + rn;
                     let dve = (sn.vel[(0, j)] + dfe * dt) * decay;
                     let dvn = (sn.vel[(1, j)] + dfn * dt) * decay;
                     sn.vel[(0, j)] = dve;
