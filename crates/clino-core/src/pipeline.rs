@@ -210,6 +210,10 @@ pub struct Pipeline {
     calibration: Option<Calibration>,
     lever: Option<LeverArm>,
     mount: Option<MountEstimator>,
+    /// The accelerometer bias removed from every sample (the mount
+    /// estimator's, fed back into the filter's state when it changes).
+    applied_bias: Vec3,
+    mount_blocks: u64,
     filter: AnyFilter,
     last_t: Option<f64>,
     counts: Counts,
@@ -224,6 +228,8 @@ impl Pipeline {
             calibration: None,
             lever: None,
             mount: None,
+            applied_bias: Vec3::zeros(),
+            mount_blocks: 0,
             last_t: None,
             counts: Counts::default(),
         }
@@ -245,12 +251,42 @@ impl Pipeline {
     /// stage is switched on.
     pub fn with_mount_estimator(mut self, opts: Option<MountOptions>) -> Self {
         self.mount = opts.map(MountEstimator::new);
+        self.track_accel_input();
         if let Some(o) = opts
             && (o.estimate_lever || o.lever_arm_m != Vec3::zeros())
         {
             self.lever = Some(LeverArm::new(o.lever_arm_m));
         }
         self
+    }
+
+    /// With the accelerometer bias estimated, the dynamic filter tracks how
+    /// its state depends on its accelerometer input, so each new estimate
+    /// reaches the tilt at once ([`crate::filter::Dynamic::shift_accel_input`]).
+    ///
+    /// Not with `--lever-arm auto`: there the bias estimate stays correlated
+    /// with the arm's error until the arm is known (the tangential and
+    /// centripetal terms of a wrong arm turn with the slew just as the bias
+    /// does), and moving the tilt by it was measured to cost more than it
+    /// gains (BENCHMARKS.md); the estimate is then removed from the samples
+    /// as it stands and reaches the tilt through the loop.
+    fn track_accel_input(&mut self) {
+        let on = self.feeds_back();
+        if let Some(d) = self.filter.as_dynamic_mut() {
+            d.track_accel_input(on);
+        }
+    }
+
+    fn feeds_back(&self) -> bool {
+        self.mount
+            .as_ref()
+            .is_some_and(|m| m.options().estimate_bias && !m.options().estimate_lever)
+    }
+
+    /// The accelerometer bias currently removed from every sample, m/s²
+    /// (body frame; zero without the online estimator).
+    pub fn applied_accel_bias(&self) -> Vec3 {
+        self.applied_bias
     }
 
     /// The online bias and lever-arm estimator, when running.
@@ -316,6 +352,9 @@ impl Pipeline {
         if let Some(m) = &mut self.mount {
             *m = MountEstimator::new(*m.options());
         }
+        self.applied_bias = Vec3::zeros();
+        self.mount_blocks = 0;
+        self.track_accel_input();
         self.last_t = None;
         self.counts = Counts::default();
     }
@@ -365,9 +404,7 @@ impl Pipeline {
                 acc -= lever_arm_acceleration(&w, &w_dot, &l.r_m);
             }
         }
-        if let Some(m) = &self.mount {
-            acc -= m.accel_bias();
-        }
+        acc -= self.applied_bias;
         // before the first used sample dt is never read (the filter initialises
         // from the accelerometer); any positive value passes the filter's gate
         let step = self
@@ -398,6 +435,23 @@ impl Pipeline {
                     );
                 }
                 _ => {}
+            }
+            if m.blocks() != self.mount_blocks {
+                // a new estimate: remove it from the samples to come, and move
+                // the filter's state to where it would be had it been removed
+                // from the samples before
+                self.mount_blocks = m.blocks();
+                let feedback = m.options().estimate_bias && !m.options().estimate_lever;
+                let target = if feedback {
+                    m.applied_accel_bias()
+                } else {
+                    m.accel_bias()
+                };
+                let delta = target - self.applied_bias;
+                if let (true, Some(d)) = (feedback, self.filter.as_dynamic_mut()) {
+                    d.shift_accel_input(-delta);
+                }
+                self.applied_bias = target;
             }
         }
         status

@@ -212,6 +212,42 @@ pub struct Dynamic {
     time: f64,
     initialised: bool,
     corr: Quaternion<f64>,
+    sens: Option<InputSensitivity>,
+}
+
+/// First-order sensitivity of the filter's state to a constant offset δa of
+/// its accelerometer input (body frame, m/s²), carried along the run: had
+/// every sample so far read f + δa, the attitude would be exp(Φ·δa) ⊗ q
+/// (nav-frame rotation vector), the velocity residual v + V·δa and the gyro
+/// bias b + B·δa. Propagated with the same gains and rotations as the state
+/// itself (the loop is linear in its input about the current trajectory).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct InputSensitivity {
+    /// Φ, rad per m/s²: rows E, N, U of the nav-frame rotation; columns body x, y, z.
+    phi: nalgebra::Matrix3<f64>,
+    /// V, s: rows E, N of the velocity residual.
+    vel: nalgebra::Matrix2x3<f64>,
+    /// B, rad/s per m/s²: rows body x, y, z of the gyro bias.
+    bias: nalgebra::Matrix3<f64>,
+}
+
+impl InputSensitivity {
+    /// The sensitivity of an attitude taken from the accelerometer directly
+    /// (initialisation): the tilt follows the input's direction, Φ·δa =
+    /// −e_U × (R·δa)/g, nothing else depends on it yet.
+    fn aligned(q: &Attitude, gravity_inv: f64) -> Self {
+        let r = q.to_rotation_matrix().into_inner();
+        let mut phi = nalgebra::Matrix3::zeros();
+        for j in 0..3 {
+            phi[(0, j)] = r[(1, j)] * gravity_inv;
+            phi[(1, j)] = -r[(0, j)] * gravity_inv;
+        }
+        Self {
+            phi,
+            vel: nalgebra::Matrix2x3::zeros(),
+            bias: nalgebra::Matrix3::zeros(),
+        }
+    }
 }
 
 impl Default for Dynamic {
@@ -301,6 +337,63 @@ impl Dynamic {
             time: 0.0,
             initialised: false,
             corr: Quaternion::identity(),
+            sens: None,
+        }
+    }
+
+    /// Track the sensitivity of the state to a constant offset of the
+    /// accelerometer input, so that [`Dynamic::shift_accel_input`] can move
+    /// the state to where a different accelerometer bias would have put it.
+    /// Off by default (it costs about as much as the filter itself); the
+    /// pipeline switches it on when it estimates the accelerometer bias.
+    pub fn track_accel_input(&mut self, on: bool) {
+        self.sens = match (on, self.sens) {
+            (false, _) => None,
+            (true, Some(s)) => Some(s),
+            (true, None) => Some(InputSensitivity::aligned(&self.q, self.inv.gravity)),
+        };
+    }
+
+    /// True while the input sensitivity is tracked ([`Dynamic::track_accel_input`]).
+    pub fn tracks_accel_input(&self) -> bool {
+        self.sens.is_some()
+    }
+
+    /// From now on the accelerometer input will be offset by `delta` (body,
+    /// m/s²; −Δb̂ when the accelerometer-bias estimate grows by Δb̂): move the
+    /// state to what it would be had every sample so far been offset the
+    /// same way — the tilt by Φ·δa, the velocity residual by V·δa, the gyro
+    /// bias by B·δa (first order; [`Dynamic::track_accel_input`] must be on,
+    /// otherwise nothing happens).
+    ///
+    /// Why: the loop pulls the tilt toward the accelerometer's gravity
+    /// direction with time constants of seconds, so a corrected bias would
+    /// otherwise take that long to reach the tilt, and on a turning mount
+    /// the error it leaves is not simply Δb/g (the bias turns in the
+    /// navigation frame faster than the loop follows); Φ carries exactly
+    /// that history. The rotation is applied to the correction product too
+    /// ([`Dynamic::tilt_correction`]), so the gyro-only attitude q₀ that
+    /// the mount estimator observes is unchanged.
+    pub fn shift_accel_input(&mut self, delta: Vec3) {
+        let Some(s) = self.sens else { return };
+        if !(finite3(&delta) && self.initialised) {
+            return;
+        }
+        let phi = s.phi * delta;
+        let (cx, cy) = (phi.x, phi.y);
+        if !(cx.is_finite() && cy.is_finite()) {
+            return;
+        }
+        let qc = nav_tilt_step(&self.corr, cx, cy);
+        self.corr = qc * (1.0 / qc.norm());
+        let q = nav_tilt_step(self.q.quaternion(), cx, cy);
+        self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
+        let dv = s.vel * delta;
+        self.vel[0] += dv.x;
+        self.vel[1] += dv.y;
+        if self.params.learn_bias {
+            let m = self.params.bias_max_rad_s;
+            self.bias = (self.bias + s.bias * delta).map(|b| b.clamp(-m, m));
         }
     }
 
@@ -400,6 +493,9 @@ impl AttitudeFilter for Dynamic {
                 self.initialised = true;
                 self.time = 0.0;
                 self.corr = Quaternion::identity();
+                if self.sens.is_some() {
+                    self.sens = Some(InputSensitivity::aligned(&q, self.inv.gravity));
+                }
                 return Step::Initialised;
             }
             Admit::Reject => return Step::Rejected,
@@ -486,6 +582,22 @@ impl AttitudeFilter for Dynamic {
         let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
         let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
 
+        // a gyro-bias offset B·δa turns the attitude by −R·B·δa·dt
+        if let Some(sn) = &mut self.sens {
+            let rot = nalgebra::Matrix3::new(
+                r00,
+                r01,
+                r02,
+                r10,
+                r11,
+                r12,
+                2.0 * (qx * qz - qw * qy),
+                2.0 * (qy * qz + qw * qx),
+                1.0 - 2.0 * (qx * qx + qy * qy),
+            );
+            sn.phi -= rot * sn.bias * dt;
+        }
+
         if acc.x == 0.0 && acc.y == 0.0 && acc.z == 0.0 {
             // no specific force at all (dropout or free fall): gyro only
             self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
@@ -524,12 +636,40 @@ impl AttitudeFilter for Dynamic {
             if self.rest && self.rest_learnt_s < p.alignment_s {
                 pull = p.start_bandwidth_rad_s;
             }
+            let ks = pull * dt * self.inv.gravity;
             if pull > 0.0 {
-                let ks = pull * dt * self.inv.gravity;
                 cx += ks * fnn;
                 cy -= ks * fe;
             }
             kc = (cx, cy);
+            if let Some(sn) = &mut self.sens {
+                // the same loop, linearised about this sample, driven by δa:
+                // δf = φ × f_nav + R·δa (horizontal), δv ← (δv + δf·dt)·decay,
+                // δc = k·(δv_N, −δv_E) + ks·(δf_N, −δf_E), φ += δc
+                let fu = 2.0 * (qx * qz - qw * qy) * acc.x
+                    + 2.0 * (qy * qz + qw * qx) * acc.y
+                    + (1.0 - 2.0 * (qx * qx + qy * qy)) * acc.z;
+                let (row_e, row_n) = ([r00, r01, r02], [r10, r11, r12]);
+                for (j, (&re, &rn)) in row_e.iter().zip(&row_n).enumerate() {
+                    let (px, py, pz) = (sn.phi[(0, j)], sn.phi[(1, j)], sn.phi[(2, j)]);
+                    let dfe = py * fu - pz * fnn + re;
+                    let dfn = pz * fe - px * fu + rn;
+                    let dve = (sn.vel[(0, j)] + dfe * dt) * decay;
+                    let dvn = (sn.vel[(1, j)] + dfn * dt) * decay;
+                    sn.vel[(0, j)] = dve;
+                    sn.vel[(1, j)] = dvn;
+                    let dcx = k * dvn + ks * dfn;
+                    let dcy = -k * dve - ks * dfe;
+                    sn.phi[(0, j)] = px + dcx;
+                    sn.phi[(1, j)] = py + dcy;
+                    // the bias update below, mapped the same way (Rᵀ·δc)
+                    if p.learn_bias && kb_over_kt > 0.0 && self.time > p.start_time_s {
+                        sn.bias[(0, j)] -= (r00 * dcx + r10 * dcy) * kb_over_kt;
+                        sn.bias[(1, j)] -= (r01 * dcx + r11 * dcy) * kb_over_kt;
+                        sn.bias[(2, j)] -= (r02 * dcx + r12 * dcy) * kb_over_kt;
+                    }
+                }
+            }
         }
         let (cx, cy) = kc;
         let qc = nav_tilt_step(&self.corr, cx, cy);
@@ -553,6 +693,9 @@ impl AttitudeFilter for Dynamic {
             // constant `rest_bias_tau_s` once that much rest has been seen
             self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
             self.bias += (self.gyr_lp - self.bias) * (dt / self.bias_info_s);
+            if let Some(sn) = &mut self.sens {
+                sn.bias *= 1.0 - dt / self.bias_info_s;
+            }
         } else {
             // what was learnt at rest ages while moving (bias drifts with time and temperature)
             self.bias_info_s *= 1.0 - self.inv.k_forget;
@@ -571,7 +714,9 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn reset(&mut self) {
+        let track = self.sens.is_some();
         *self = Self::new(self.params);
+        self.track_accel_input(track);
     }
 
     fn gyro_bias(&self) -> Vec3 {
@@ -795,6 +940,83 @@ mod tests {
             "bias error {}°/s",
             worst.to_degrees()
         );
+    }
+
+    /// A mount on a 6° slope, at rest for 10 s, then turning about the
+    /// vertical with rate 1 rad/s·sin(2π·t/16) (heading ±2.5 rad), at 100 Hz;
+    /// gyro bias and noise. Truth attitude, body rate, specific force.
+    fn turning(t: f64) -> (Attitude, Vec3, Vec3) {
+        let tilt = UnitQuaternion::from_euler_angles(0.07, -0.08, 0.0);
+        let tau = 2.0 * core::f64::consts::PI;
+        let (heading, rate) = if t < 10.0 {
+            (0.0, 0.0)
+        } else {
+            let u = t - 10.0;
+            (
+                16.0 / tau * (1.0 - (tau * u / 16.0).cos()),
+                (tau * u / 16.0).sin(),
+            )
+        };
+        let q = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), heading) * tilt;
+        let w = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, rate));
+        let f = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
+        (q, w, f)
+    }
+
+    #[test]
+    fn shifting_the_accelerometer_input_equals_having_run_with_it() {
+        // A reads f + δa from the start; B reads f until t = 13 s (3 s into the
+        // turn, heading 1.3 rad: the loop has not caught up with the turning
+        // bias, so the tilt error is not δa/g in any fixed direction), then its
+        // input is shifted by δa and B reads f + δa; C is B without the shift.
+        // The independent value is A itself: B must land on it to first order.
+        let dt = 0.01;
+        let da = Vector3::new(0.07, -0.1, 0.05); // (7, −10, 5) mg
+        let gb = Vector3::new(0.3, -0.2, 0.1) * core::f64::consts::PI / 180.0;
+        let mut a = Dynamic::default();
+        let mut b = Dynamic::default();
+        b.track_accel_input(true);
+        let mut c = b.clone();
+        let mut noise = Noise(21);
+        let t_shift = 13.0;
+        let mut report = None;
+        for k in 0..(20.0 / dt) as usize {
+            let t = k as f64 * dt;
+            let (_, w, f) = turning(t);
+            let (gyr, acc) = (w + gb + noise.vec(0.001), f + noise.vec(0.03));
+            a.update(gyr, acc + da, dt);
+            let shifted = t >= t_shift;
+            b.update(gyr, if shifted { acc + da } else { acc }, dt);
+            c.update(gyr, acc, dt);
+            if (t - t_shift).abs() < 0.5 * dt {
+                b.shift_accel_input(da);
+                report = Some((
+                    tilt_err(&b.attitude(), &a.attitude()),
+                    tilt_err(&c.attitude(), &a.attitude()),
+                    (b.gyro_bias() - a.gyro_bias()).norm(),
+                    (c.gyro_bias() - a.gyro_bias()).norm(),
+                ));
+            }
+        }
+        let (e_b, e_c, gb_b, gb_c) = report.unwrap();
+        // without the shift the tilt differs by about |δa_h|/g (0.7°), the bias a little
+        assert!(e_c > 0.3f64.to_radians(), "{}°", e_c.to_degrees());
+        assert!(
+            e_b < 0.03 * e_c,
+            "{}° vs {}°",
+            e_b.to_degrees(),
+            e_c.to_degrees()
+        );
+        assert!(gb_b < 0.2 * gb_c + 1e-5, "{gb_b} vs {gb_c}");
+        // and afterwards B keeps following A (it now reads what A reads)
+        let e_end = tilt_err(&b.attitude(), &a.attitude());
+        assert!(e_end < 0.03 * e_c, "{}°", e_end.to_degrees());
+        // a filter that does not track the sensitivity ignores the shift
+        let mut d = Dynamic::default();
+        d.update(Vector3::zeros(), Vector3::new(0.0, 0.0, G0), dt);
+        let q = d.attitude();
+        d.shift_accel_input(da);
+        assert_eq!(d.attitude(), q);
     }
 
     #[test]
