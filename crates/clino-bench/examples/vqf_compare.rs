@@ -115,7 +115,7 @@ fn main() -> clino::Result<()> {
         );
         let (mut sv, mut sd, mut so, mut worst) = (0.0, 0.0, 0.0, 0.0f64);
         let realtime = FilterConfig::new(FilterKind::Dynamic);
-        let offline = realtime.clone().with_offline(true);
+        let offline = realtime.with_offline(true);
         for p in &paths {
             let rec = load(p)?;
             let dt = dts(&rec.t);
@@ -168,10 +168,10 @@ fn main() -> clino::Result<()> {
     };
     let v = score(&run_vqf(&gyr, &acc, 1.0 / rate));
     let plain = FilterConfig::new(FilterKind::Dynamic);
-    let lever = plain.clone().with_lever_arm(Some(m.lever_arm_m));
+    let lever = plain.with_lever_arm(Some(m.lever_arm_m));
     let d = score(&run_clino(&plain, &samples)?);
     let dc = score(&run_clino(&lever, &samples)?);
-    let no_bias = lever.clone().with_accel_bias(false);
+    let no_bias = lever.with_accel_bias(false);
     let dn = score(&run_clino(&no_bias, &samples)?);
     let oc = score(&run_clino(&lever.with_offline(true), &samples)?);
     println!(
