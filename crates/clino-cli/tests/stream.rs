@@ -525,6 +525,18 @@ fn the_sources_exclude_each_other_and_dials_need_a_board() {
         assert_eq!(code, Some(1), "{args:?}: {err}");
         assert!(err.contains("--dials needs a board"), "{args:?}: {err}");
     }
+    // the replay speed means nothing for a live source
+    for args in [
+        &["--port", "/dev/ttyACM0", "--speed", "2"][..],
+        &["--i2c", "/dev/i2c-1", "--speed", "2"],
+    ] {
+        let (code, err) = stream_err(args);
+        assert_eq!(code, Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains("--speed is the replay speed"),
+            "{args:?}: {err}"
+        );
+    }
     // the address: 0x68 or 0x69, hex or decimal, and only with --i2c
     let (code, err) = stream_err(&["--i2c", "/dev/i2c-1", "--address", "0x70"]);
     assert_eq!(code, Some(2), "{err}");

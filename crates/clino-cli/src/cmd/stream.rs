@@ -58,8 +58,9 @@ pub struct Args {
     #[arg(long, value_name = "FILE")]
     pub replay: Option<PathBuf>,
     /// Replay speed, × real time (`inf`: as fast as the pipeline takes it).
-    #[arg(long, default_value_t = 1.0, value_name = "X", requires = "replay")]
-    pub speed: f64,
+    /// Default 1; only with `--replay`.
+    #[arg(long, value_name = "X")]
+    pub speed: Option<f64>,
     /// Filter: poisson, complementary, mahony, madgwick or dynamic, with any
     /// parameter as NAME:KEY=VALUE,… (as `clino fuse`).
     #[arg(long, short = 'f', default_value = "dynamic", long_help = clino::fusion::filter_help())]
@@ -259,6 +260,10 @@ fn check_flags(a: &Args) -> anyhow::Result<()> {
         !a.dials || a.port.is_some(),
         "--dials needs a board running clino firmware on --port (a bare I2C sensor or a replay has no dials)"
     );
+    anyhow::ensure!(
+        a.speed.is_none() || a.replay.is_some(),
+        "--speed is the replay speed: it needs --replay (a live source runs on its own clock)"
+    );
     let i2c_only = [
         ("--address", a.address.is_some()),
         ("--rate", a.rate.is_some()),
@@ -289,7 +294,7 @@ fn open_source(a: &Args) -> anyhow::Result<Box<dyn SampleSource + Send>> {
     };
     Ok(Box::new(ReplaySource::new(
         FileSource::open(path, &opts)?,
-        a.speed,
+        a.speed.unwrap_or(1.0),
     )?))
 }
 
