@@ -329,7 +329,7 @@ pub fn evaluate(
     duration_s: f64,
     seed: u64,
     filters: &[FilterSpec],
-) -> Vec<SlewingScore> {
+) -> crate::Result<Vec<SlewingScore>> {
     use crate::eval::{Rms, inclination_error};
     let samples = model.simulate(platform, rate_hz, duration_s, seed);
     let truth: Vec<Attitude> = (0..samples.len())
@@ -350,14 +350,18 @@ pub fn evaluate(
     filters
         .iter()
         .map(|spec| {
-            let (unc, _) = score(Pipeline::new(*spec));
-            let (com, max) = score(Pipeline::new(*spec).with_lever_arm(Some(platform.lever_arm_m)));
-            SlewingScore {
+            // as `clino fuse` runs them, with and without `--lever-arm` (with the
+            // dynamic filter, the lever arm also turns on the bias estimate)
+            let config = crate::fusion::FilterConfig::from_spec(*spec);
+            let arm = config.with_lever_arm(Some(platform.lever_arm_m));
+            let (unc, _) = score(config.pipeline()?);
+            let (com, max) = score(arm.pipeline()?);
+            Ok(SlewingScore {
                 filter: crate::fusion::spec_text(spec),
                 uncompensated_deg: unc,
                 compensated_deg: com,
                 compensated_max_deg: max,
-            }
+            })
         })
         .collect()
 }
@@ -377,7 +381,8 @@ mod eval_tests {
             100.0,
             1,
             &[FilterKind::Dynamic, FilterKind::Mahony].map(FilterSpec::default_for),
-        );
+        )
+        .unwrap();
         let (d, mh) = (&r[0], &r[1]);
         assert!(d.compensated_deg <= 0.1, "{d:?}");
         assert!(d.compensated_deg * 5.0 <= d.uncompensated_deg, "{d:?}");
@@ -406,7 +411,7 @@ pub fn demo_summary() -> crate::Result<String> {
             FilterKind::Complementary,
         ]
         .map(FilterSpec::default_for),
-    );
+    )?;
     let mut s = String::new();
     let p = m.lever_arm_m;
     let _ = writeln!(
