@@ -186,3 +186,35 @@ fn fuse_behind_a_pipe_answers_each_row_as_it_arrives() {
     drop(stdin);
     assert!(child.wait().unwrap().success());
 }
+
+/// `-o /dev/stdout` with stdout redirected to a file: the rows land in that
+/// file (appended, as `>>` expects) and `/dev/stdout` stays what it was —
+/// an output under /dev is written in place, never renamed over.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_output_under_dev_is_written_in_place() {
+    let d = common::scratch("one-reader", "dev-stdout");
+    let input = d.join("in.csv");
+    std::fs::write(&input, "t_s,x\n0,1.5\n1,2.5\n").unwrap();
+    let out = d.join("out.csv");
+    std::fs::write(&out, "before\n").unwrap();
+    let sink = std::fs::OpenOptions::new().append(true).open(&out).unwrap();
+    let before = std::fs::symlink_metadata("/dev/stdout").map(|m| m.file_type());
+    let status = Command::new(env!("CARGO_BIN_EXE_clino"))
+        .args(["convert", input.to_str().unwrap(), "/dev/stdout"])
+        .stdout(sink)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let after = std::fs::symlink_metadata("/dev/stdout").map(|m| m.file_type());
+    assert_eq!(
+        format!("{before:?}"),
+        format!("{after:?}"),
+        "/dev/stdout was replaced"
+    );
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "before\nt_s,x\n0.0,1.5\n1.0,2.5\n"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -59,6 +59,15 @@ impl Error {
         self.file = Some(file.into());
         self
     }
+    /// Attach a file unless the error already names one (an error from a
+    /// file read inside keeps the name of that file).
+    pub fn or_in_file(self, file: impl Into<PathBuf>) -> Self {
+        if self.file.is_none() {
+            self.in_file(file)
+        } else {
+            self
+        }
+    }
     /// Attach a 1-based line number.
     pub fn at_line(mut self, line: u64) -> Self {
         self.line = Some(line);

@@ -347,7 +347,7 @@ impl Recording {
     /// not at all ([`crate::io::AtomicFile`]; writing over one of `inputs` is
     /// refused); errors name it.
     pub fn save(&self, path: &Path, inputs: &[&Path]) -> Result<()> {
-        let named = |e: Error| if e.file.is_none() { e.in_file(path) } else { e };
+        let named = |e: Error| e.or_in_file(path);
         let mut f = crate::io::AtomicFile::create(path, inputs)?;
         if crate::io::is_parquet(path) {
             let rows: Vec<Vec<String>> = self.output_rows().collect();

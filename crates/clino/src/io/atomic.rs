@@ -162,11 +162,15 @@ impl AtomicFile {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "out".into());
         // `/dev/stdout`, a named pipe, a terminal: written in place (a rename
-        // would replace the device node with a regular file)
-        let stream = std::fs::metadata(dest).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        // would replace the device node with a regular file). Anything under
+        // /dev or /proc names an open descriptor or a device even when it
+        // resolves to a regular file (`-o /dev/stdout > out.csv`); it is
+        // appended to, as the shell's `>>` expects and `>` already truncated.
+        let special = dest.starts_with("/dev") || dest.starts_with("/proc");
+        let stream = special || std::fs::metadata(dest).is_ok_and(|m| !m.is_file() && !m.is_dir());
         let (f, tmp) = if stream {
             let f = std::fs::OpenOptions::new()
-                .write(true)
+                .append(true)
                 .open(dest)
                 .map_err(|e| Error::from(e).in_file(dest))?;
             (f, None)

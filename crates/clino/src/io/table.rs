@@ -407,7 +407,7 @@ impl<R: Read> TableReader<R> {
             if let Cell::Num(x) = p.cell(i) {
                 return Ok(x);
             }
-            return self.parquet_text_f64(i);
+            return self.parquet_text_f64(p, i);
         }
         let raw = self.rec.get(i).unwrap_or(b"");
         parse_f64(raw).ok_or_else(|| {
@@ -421,23 +421,20 @@ impl<R: Read> TableReader<R> {
 
     /// A Parquet cell that is not a number column's: text parsed as CSV is.
     #[cold]
-    fn parquet_text_f64(&self, i: usize) -> Result<f64> {
-        if let Some(p) = &self.parquet {
-            return match p.cell(i) {
-                Cell::Num(x) => Ok(x),
-                Cell::Text(t) => parse_f64(t.as_bytes()).ok_or_else(|| {
-                    self.err_at(
-                        i,
-                        ErrorKind::Parse,
-                        format!("not a number: {}", quote_cell(t.as_bytes())),
-                    )
-                }),
-                Cell::Other(what) => {
-                    Err(self.err_at(i, ErrorKind::Parse, format!("not a number: {what}")))
-                }
-            };
+    fn parquet_text_f64(&self, p: &ParquetRows, i: usize) -> Result<f64> {
+        match p.cell(i) {
+            Cell::Num(x) => Ok(x),
+            Cell::Text(t) => parse_f64(t.as_bytes()).ok_or_else(|| {
+                self.err_at(
+                    i,
+                    ErrorKind::Parse,
+                    format!("not a number: {}", quote_cell(t.as_bytes())),
+                )
+            }),
+            Cell::Other(what) => {
+                Err(self.err_at(i, ErrorKind::Parse, format!("not a number: {what}")))
+            }
         }
-        Ok(f64::NAN)
     }
 
     /// Cell `i` as a finite number (an empty, NaN or infinite cell is an error).

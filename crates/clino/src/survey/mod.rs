@@ -188,9 +188,7 @@ pub fn survey_file(
     calibration: Option<&crate::calib::CalibrationFile>,
     opt: &SurveyOptions,
 ) -> Result<SurveyReport> {
-    let named = |e: crate::Error| {
-        if e.file.is_none() { e.in_file(path) } else { e }
-    };
+    let named = |e: crate::Error| e.or_in_file(path);
     let mut readings = read_stations(path)?;
     if let Some(cal) = calibration {
         calibrate_readings(&mut readings, cal).map_err(named)?;

@@ -429,13 +429,8 @@ pub fn analyze(
     freq_hz: Option<f64>,
     skip_s: f64,
 ) -> Result<Analysis> {
-    analyze_table(table, excitation, geometry, freq_hz, skip_s).map_err(|e| {
-        if e.file.is_none() {
-            e.in_file(&table.path)
-        } else {
-            e
-        }
-    })
+    analyze_table(table, excitation, geometry, freq_hz, skip_s)
+        .map_err(|e| e.or_in_file(&table.path))
 }
 
 fn analyze_table(

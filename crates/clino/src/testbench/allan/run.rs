@@ -65,13 +65,8 @@ fn report(
 /// errors name the file. The samples are dropped once analysed.
 pub fn allan_record(mut record: StaticRecord) -> Result<AllanReport> {
     record.require(MIN_SAMPLES, "an Allan analysis")?;
-    let axes = allan_imu(&record.samples, record.rate_hz).map_err(|e| {
-        if e.file.is_none() {
-            e.in_file(&record.file)
-        } else {
-            e
-        }
-    })?;
+    let axes =
+        allan_imu(&record.samples, record.rate_hz).map_err(|e| e.or_in_file(&record.file))?;
     let (n, rate) = (record.samples.len(), record.rate_hz);
     record.samples = Vec::new();
     Ok(report(Some(record), n, rate, axes))
