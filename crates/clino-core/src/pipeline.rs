@@ -272,8 +272,11 @@ impl Pipeline {
     /// as it stands and reaches the tilt through the loop.
     fn track_accel_input(&mut self) {
         let on = self.feeds_back();
+        let observed = self.mount.is_some();
         if let Some(d) = self.filter.as_dynamic_mut() {
             d.track_accel_input(on);
+            // the mount estimator observes the gyro-only attitude through it
+            d.track_tilt_correction(observed);
         }
     }
 
@@ -421,19 +424,22 @@ impl Pipeline {
             self.last_t = Some(s.t_s);
         }
         if let Some(m) = &mut self.mount {
-            match (status, self.filter.as_dynamic(), dt) {
+            match (status, self.filter.as_dynamic_mut(), dt) {
                 (Status::Initialised, _, _) => m.restart(),
-                (Status::Fused, Some(d), Some(dt)) => {
-                    let (w, w_dot) = rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
-                    m.observe(
-                        &d.attitude(),
-                        &d.tilt_correction(),
-                        &s.acc_m_s2,
-                        &w,
-                        &w_dot,
-                        dt,
-                    );
-                }
+                (Status::Fused, Some(d), Some(dt)) => match d.tilt_correction() {
+                    Some(qc) => {
+                        let (w, w_dot) =
+                            rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
+                        m.observe(&d.attitude(), &qc, &s.acc_m_s2, &w, &w_dot, dt);
+                    }
+                    // a filter put in through `filter_mut` without the
+                    // tracking: its gyro-only reference starts here, as at
+                    // initialisation
+                    None => {
+                        d.track_tilt_correction(true);
+                        m.restart();
+                    }
+                },
                 _ => {}
             }
             if m.blocks() != self.mount_blocks {

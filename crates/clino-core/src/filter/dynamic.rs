@@ -211,7 +211,8 @@ pub struct Dynamic {
     bias_info_s: f64,
     time: f64,
     initialised: bool,
-    corr: Quaternion<f64>,
+    /// Q_c of [`Dynamic::tilt_correction`], when tracked.
+    corr: Option<Quaternion<f64>>,
     sens: Option<InputSensitivity>,
 }
 
@@ -256,8 +257,9 @@ impl Default for Dynamic {
     }
 }
 
-/// Reciprocals of the parameters, and the last dt's low-pass coefficient
-/// (recordings have a constant rate: exp is evaluated once, not per sample).
+/// Reciprocals of the parameters, and the low-pass coefficients of the last
+/// dt that moved by more than 1 ppm (recordings have a constant rate: they
+/// are evaluated once, not per sample).
 #[derive(Clone, Copy, Debug)]
 struct Reciprocals {
     lowpass_tau: f64,
@@ -336,7 +338,7 @@ impl Dynamic {
             bias_info_s: 0.0,
             time: 0.0,
             initialised: false,
-            corr: Quaternion::identity(),
+            corr: None,
             sens: None,
         }
     }
@@ -384,8 +386,10 @@ impl Dynamic {
         if !(cx.is_finite() && cy.is_finite()) {
             return;
         }
-        let qc = nav_tilt_step(&self.corr, cx, cy);
-        self.corr = qc * (1.0 / qc.norm());
+        if let Some(qc) = &mut self.corr {
+            let c = nav_tilt_step(qc, cx, cy);
+            *qc = c * (1.0 / c.norm());
+        }
         let q = nav_tilt_step(self.q.quaternion(), cx, cy);
         self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
         let dv = s.vel * delta;
@@ -409,8 +413,23 @@ impl Dynamic {
     /// of the filter ([`crate::compensate::MountEstimator`]) model the
     /// specific force in the navigation frame with a constant offset instead
     /// of the loop's dynamics.
-    pub fn tilt_correction(&self) -> Attitude {
-        Attitude::new_normalize(self.corr)
+    ///
+    /// `None` unless tracked ([`Dynamic::track_tilt_correction`]).
+    pub fn tilt_correction(&self) -> Option<Attitude> {
+        self.corr.map(Attitude::new_normalize)
+    }
+
+    /// Track [`Dynamic::tilt_correction`] from now on (`true`; from the
+    /// identity, exact when switched on before the first sample) or stop
+    /// (`false`). Off by default: it costs a quaternion step and a
+    /// normalisation per sample and only an observer of the filter reads
+    /// it; the attitude is the same to the bit either way.
+    pub fn track_tilt_correction(&mut self, on: bool) {
+        self.corr = match (on, self.corr) {
+            (false, _) => None,
+            (true, Some(c)) => Some(c),
+            (true, None) => Some(Quaternion::identity()),
+        };
     }
 
     /// The tuning in use.
@@ -492,7 +511,9 @@ impl AttitudeFilter for Dynamic {
                 self.acc_f = acc;
                 self.initialised = true;
                 self.time = 0.0;
-                self.corr = Quaternion::identity();
+                if self.corr.is_some() {
+                    self.corr = Some(Quaternion::identity());
+                }
                 if self.sens.is_some() {
                     self.sens = Some(InputSensitivity::aligned(&q, self.inv.gravity));
                 }
@@ -501,11 +522,17 @@ impl AttitudeFilter for Dynamic {
             Admit::Reject => return Step::Rejected,
             Admit::Wait => return Step::Waiting,
         }
-        let p = self.params;
+        let p = &self.params;
         self.time += dt;
 
         // --- rest detection on 0.5-s low-passed rate and specific force
-        if dt != self.inv.dt {
+        // Recomputed only when dt moves by more than 1 ppm: time stamps jitter
+        // the difference of consecutive times in its last bits (k/rate rounded,
+        // or a logger's decimals), and a low-pass corner off by 1 ppm is far
+        // below any clock's own error (a crystal: 10–100 ppm). The cached dt is
+        // always within 1 ppm of the current one, so no drift accumulates.
+        let moved = (dt - self.inv.dt).abs();
+        if moved.is_nan() || moved > 1e-6 * dt {
             self.inv.dt = dt;
             self.inv.k_lp = one_minus_exp_neg(dt * self.inv.lowpass_tau);
             self.inv.k_forget = one_minus_exp_neg(dt * self.inv.bias_memory);
@@ -672,8 +699,10 @@ impl AttitudeFilter for Dynamic {
             }
         }
         let (cx, cy) = kc;
-        let qc = nav_tilt_step(&self.corr, cx, cy);
-        self.corr = qc * (1.0 / qc.norm());
+        if let Some(qc) = &mut self.corr {
+            let c = nav_tilt_step(qc, cx, cy);
+            *qc = c * (1.0 / c.norm());
+        }
         let q = nav_tilt_step(&q, cx, cy);
         self.q = Attitude::new_unchecked(q * (1.0 / q.norm()));
 
@@ -714,9 +743,10 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn reset(&mut self) {
-        let track = self.sens.is_some();
+        let (track, corr) = (self.sens.is_some(), self.corr.is_some());
         *self = Self::new(self.params);
         self.track_accel_input(track);
+        self.track_tilt_correction(corr);
     }
 
     fn gyro_bias(&self) -> Vec3 {
@@ -1024,26 +1054,39 @@ mod tests {
         // q = Q_c ⊗ q₀ with q₀ the gyro propagation alone: run the filter, then
         // propagate the initial attitude with the same rates less the filter's
         // bias at each step and compare
+        // (and tracking it leaves the attitude unchanged to the bit)
         let mut f = Dynamic::default();
+        let mut untracked = Dynamic::default();
+        assert!(f.tilt_correction().is_none());
+        f.track_tilt_correction(true);
         let dt = 0.01;
         let acc0 = Vector3::new(0.5, -0.3, 9.7);
         f.update(Vector3::zeros(), acc0, dt);
+        untracked.update(Vector3::zeros(), acc0, dt);
         let mut q0 = f.attitude();
         let mut noise = Noise(9);
         for k in 0..3000 {
             let t = k as f64 * dt;
             let w = Vector3::new((0.7 * t).sin(), 0.4 * (0.3 * t).cos(), 0.2);
             let b = f.gyro_bias();
-            f.update(w, acc0 + noise.vec(0.5), dt);
+            let a = acc0 + noise.vec(0.5);
+            f.update(w, a, dt);
+            untracked.update(w, a, dt);
             q0 *= UnitQuaternion::from_scaled_axis((w - b) * dt);
         }
-        let rebuilt = f.tilt_correction() * q0;
+        assert_eq!(f.attitude(), untracked.attitude());
+        assert!(untracked.tilt_correction().is_none());
+        let qc = f.tilt_correction().unwrap();
+        let rebuilt = qc * q0;
         assert!(
             rebuilt.angle_to(&f.attitude()) < 1e-9,
             "{}",
             rebuilt.angle_to(&f.attitude())
         );
-        assert!(f.tilt_correction().angle() > 0.01);
+        assert!(qc.angle() > 0.01);
+        // kept through a reset, from the identity
+        f.reset();
+        assert_eq!(f.tilt_correction(), Some(Attitude::identity()));
     }
 
     #[test]
