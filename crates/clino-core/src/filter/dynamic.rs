@@ -310,7 +310,7 @@ fn nav_tilt_step(q: &Quaternion<f64>, cx: f64, cy: f64) -> Quaternion<f64> {
 #[inline(always)]
 fn one_minus_exp_neg(x: f64) -> f64 {
     if x < 0.02 {
-        x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x / 24.0)))
+        x * (1.0 - x * (0.5 - x * (1.0 / 6.0 - x * (1.0 / 24.0))))
     } else {
         1.0 - exp(-x)
     }
@@ -589,8 +589,8 @@ impl AttitudeFilter for Dynamic {
         let (c, s) = if half < 0.1 {
             let h2 = half * half;
             (
-                1.0 - h2 * (0.5 - h2 * (1.0 / 24.0 - h2 / 720.0)),
-                0.5 * dt * (1.0 - h2 * (1.0 / 6.0 - h2 * (1.0 / 120.0 - h2 / 5040.0))),
+                1.0 - h2 * (0.5 - h2 * (1.0 / 24.0 - h2 * (1.0 / 720.0))),
+                0.5 * dt * (1.0 - h2 * (1.0 / 6.0 - h2 * (1.0 / 120.0 - h2 * (1.0 / 5040.0)))),
             )
         } else {
             (cos(half), sin(half) / wn)

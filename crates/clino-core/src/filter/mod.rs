@@ -128,7 +128,10 @@ pub(crate) fn rotate_body(q: &Attitude, phi: Vec3) -> Attitude {
     let a = sqrt(a2);
     let (c, s) = if a < 1e-4 {
         // cos(a/2) and sin(a/2)/a to O(a^4)
-        (1.0 - a2 / 8.0 + a2 * a2 / 384.0, 0.5 - a2 / 48.0)
+        (
+            1.0 - a2 * 0.125 + a2 * a2 * (1.0 / 384.0),
+            0.5 - a2 * (1.0 / 48.0),
+        )
     } else {
         (cos(0.5 * a), sin(0.5 * a) / a)
     };

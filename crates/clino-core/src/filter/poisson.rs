@@ -101,7 +101,7 @@ impl Poisson {
                 let t2 = phi.norm_squared();
                 let t = sqrt(t2);
                 let (s1, s2) = if t < 1e-4 {
-                    (1.0 - t2 / 6.0, 0.5 - t2 / 24.0)
+                    (1.0 - t2 * (1.0 / 6.0), 0.5 - t2 * (1.0 / 24.0))
                 } else {
                     (sin(t) / t, (1.0 - cos(t)) / t2)
                 };
