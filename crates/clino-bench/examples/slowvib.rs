@@ -11,8 +11,8 @@ use clino::core::{Attitude, Vec3};
 use clino::eval::inclination_error;
 use clino::fusion::parse_spec;
 use clino::sim::hand::{HandMotion, HandParams};
-use clino::sim::motion::{ConeAxis, Conical, Orbit, Sum};
 use clino::sim::imu::Bandwidth;
+use clino::sim::motion::{ConeAxis, Conical, Orbit, Sum};
 use clino::sim::{ImuModel, Motion, slewing};
 
 struct Vib {
@@ -235,7 +235,8 @@ fn main() {
             1.0 - (-dt / params.vibration_tau_s).exp(),
             1.0 - (-dt / params.lowpass_tau_s).exp(),
         );
-        let (mut gf, mut gl, mut af, mut al) = (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
+        let (mut gf, mut gl, mut af, mut al) =
+            (Vec3::zeros(), Vec3::zeros(), Vec3::zeros(), Vec3::zeros());
         let mut first = true;
         // oracle zero-rate update: the mean raw gyro over each true rest (from 0.6 s in)
         let (mut o_sum, mut o_n, mut o_in) = (Vec3::zeros(), 0.0, 0.0);
