@@ -214,6 +214,9 @@ pub struct Pipeline {
     /// estimator's, fed back into the filter's state when it changes).
     applied_bias: Vec3,
     mount_blocks: u64,
+    /// The dynamic filter tracks its sensitivity to the lever arm, and each
+    /// new arm estimate moves its state (`--lever-arm auto`).
+    feeds_back_arm: bool,
     filter: AnyFilter,
     last_t: Option<f64>,
     counts: Counts,
@@ -230,6 +233,7 @@ impl Pipeline {
             mount: None,
             applied_bias: Vec3::zeros(),
             mount_blocks: 0,
+            feeds_back_arm: false,
             last_t: None,
             counts: Counts::default(),
         }
@@ -262,19 +266,29 @@ impl Pipeline {
 
     /// With the accelerometer bias estimated, the dynamic filter tracks how
     /// its state depends on its accelerometer input, so each new estimate
-    /// reaches the tilt at once ([`crate::filter::Dynamic::shift_accel_input`]).
+    /// reaches the tilt at once ([`crate::filter::Dynamic::shift_accel_input`]);
+    /// with the lever arm estimated (`--lever-arm auto`), also how it depends
+    /// on the arm ([`crate::filter::Dynamic::shift_arm_input`]).
     ///
-    /// Not with `--lever-arm auto`: there the bias estimate stays correlated
-    /// with the arm's error until the arm is known (the tangential and
-    /// centripetal terms of a wrong arm turn with the slew just as the bias
-    /// does), and moving the tilt by it was measured to cost more than it
-    /// gains (BENCHMARKS.md); the estimate is then removed from the samples
-    /// as it stands and reaches the tilt through the loop.
+    /// Both together: until the arm is known the bias estimate is correlated
+    /// with its error (the tangential and centripetal terms of a wrong arm
+    /// turn with the slew just as the bias does), so moving the tilt by the
+    /// new bias alone moved it by half of a consistent change, which was
+    /// measured to cost more than it gained (auto 0.18–0.45° against
+    /// 0.12–0.17° without feedback); moving it by both, as had the pair
+    /// of estimates been removed from the start, gives 0.10–0.11°
+    /// (BENCHMARKS.md).
     fn track_accel_input(&mut self) {
         let on = self.feeds_back();
         let observed = self.mount.is_some();
+        self.feeds_back_arm = self
+            .mount
+            .as_ref()
+            .is_some_and(|m| m.options().estimate_lever);
+        let arm = self.feeds_back_arm;
         if let Some(d) = self.filter.as_dynamic_mut() {
             d.track_accel_input(on);
+            d.track_arm_input(arm);
             // the mount estimator observes the gyro-only attitude through it
             d.track_tilt_correction(observed);
         }
@@ -283,7 +297,7 @@ impl Pipeline {
     fn feeds_back(&self) -> bool {
         self.mount
             .as_ref()
-            .is_some_and(|m| m.options().estimate_bias && !m.options().estimate_lever)
+            .is_some_and(|m| m.options().estimate_bias)
     }
 
     /// The accelerometer bias currently removed from every sample, m/s²
@@ -406,6 +420,16 @@ impl Pipeline {
             if let Some((w, w_dot)) = rates {
                 acc -= lever_arm_acceleration(&w, &w_dot, &l.r_m);
             }
+            if let (true, Some(d)) = (self.feeds_back_arm, self.filter.as_dynamic_mut()) {
+                let h = match rates {
+                    Some((w, w_dot)) => {
+                        let wx = w.cross_matrix();
+                        w_dot.cross_matrix() + wx * wx
+                    }
+                    None => nalgebra::Matrix3::zeros(),
+                };
+                d.set_arm_input(&h);
+            }
         }
         acc -= self.applied_bias;
         // before the first used sample dt is never read (the filter initialises
@@ -447,17 +471,20 @@ impl Pipeline {
                 // the filter's state to where it would be had it been removed
                 // from the samples before
                 self.mount_blocks = m.blocks();
-                let feedback = m.options().estimate_bias && !m.options().estimate_lever;
-                let target = if feedback {
-                    m.applied_accel_bias()
-                } else {
-                    m.accel_bias()
-                };
+                let feedback = m.options().estimate_bias;
+                let target = m.accel_bias();
                 let delta = target - self.applied_bias;
                 if let (true, Some(d)) = (feedback, self.filter.as_dynamic_mut()) {
                     d.shift_accel_input(-delta);
                 }
                 self.applied_bias = target;
+                if let (true, Some(l)) = (m.options().estimate_lever, &mut self.lever) {
+                    let dr = m.lever_arm() - l.r_m;
+                    l.r_m = m.lever_arm();
+                    if let (true, Some(d)) = (self.feeds_back_arm, self.filter.as_dynamic_mut()) {
+                        d.shift_arm_input(-dr);
+                    }
+                }
             }
         }
         status

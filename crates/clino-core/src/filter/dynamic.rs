@@ -222,6 +222,11 @@ pub struct Dynamic {
     /// Q_c of [`Dynamic::tilt_correction`], when tracked.
     corr: Option<Quaternion<f64>>,
     sens: Option<InputSensitivity>,
+    /// Sensitivity to a lever-arm error δr: the input offset H·δr of each
+    /// sample, H = ω̇× + ω×ω× ([`Dynamic::set_arm_input`]).
+    arm: Option<InputSensitivity>,
+    /// H of the next sample (body frame, 1/s²).
+    arm_input: nalgebra::Matrix3<f64>,
 }
 
 /// First-order sensitivity of the filter's state to a constant offset δa of
@@ -241,6 +246,56 @@ struct InputSensitivity {
 }
 
 impl InputSensitivity {
+    /// No dependence yet (an input that has always been zero).
+    fn zero() -> Self {
+        Self {
+            phi: nalgebra::Matrix3::zeros(),
+            vel: nalgebra::Matrix2x3::zeros(),
+            bias: nalgebra::Matrix3::zeros(),
+        }
+    }
+
+    /// One sample of the loop, linearised about it and driven by the input
+    /// offset A·δ (A = I for a constant offset; `drive_e`, `drive_n` are the
+    /// E and N rows of R·A): δf = φ × f_nav + R·A·δ (horizontal),
+    /// δv ← (δv + δf·dt)·decay, δc = k·(δv_N, −δv_E) + ks·(δf_N, −δf_E),
+    /// φ += δc, and the motion bias learning mapped the same way (Rᵀ·δc).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn step(
+        &mut self,
+        drive_e: [f64; 3],
+        drive_n: [f64; 3],
+        f_nav: (f64, f64, f64),
+        rows: &[[f64; 3]; 2],
+        decay: f64,
+        k: f64,
+        ks: f64,
+        dt: f64,
+        kb_over_kt: Option<f64>,
+    ) {
+        let (fe, fnn, fu) = f_nav;
+        for j in 0..3 {
+            let (px, py, pz) = (self.phi[(0, j)], self.phi[(1, j)], self.phi[(2, j)]);
+            let dfe = py * fu - pz * fnn + drive_e[j];
+            let dfn = pz * fe - px * fu + drive_n[j];
+            let dve = (self.vel[(0, j)] + dfe * dt) * decay;
+            let dvn = (self.vel[(1, j)] + dfn * dt) * decay;
+            self.vel[(0, j)] = dve;
+            self.vel[(1, j)] = dvn;
+            let dcx = k * dvn + ks * dfn;
+            let dcy = -k * dve - ks * dfe;
+            self.phi[(0, j)] = px + dcx;
+            self.phi[(1, j)] = py + dcy;
+            if let Some(kb) = kb_over_kt {
+                let [re, rn] = rows;
+                for i in 0..3 {
+                    self.bias[(i, j)] -= (re[i] * dcx + rn[i] * dcy) * kb;
+                }
+            }
+        }
+    }
+
     /// The sensitivity of an attitude taken from the accelerometer directly
     /// (initialisation): the tilt follows the input's direction, Φ·δa =
     /// −e_U × (R·δa)/g, nothing else depends on it yet.
@@ -349,6 +404,8 @@ impl Dynamic {
             from_accel: false,
             corr: None,
             sens: None,
+            arm: None,
+            arm_input: nalgebra::Matrix3::zeros(),
         }
     }
 
@@ -363,6 +420,44 @@ impl Dynamic {
             (true, Some(s)) => Some(s),
             (true, None) => Some(InputSensitivity::aligned(&self.q, self.inv.gravity)),
         };
+    }
+
+    /// Track the sensitivity of the state to an error δr of the lever arm
+    /// removed from the accelerometer input (the tangential and centripetal
+    /// terms H·r, H = ω̇× + ω×ω×, of [`crate::compensate::lever_arm_acceleration`]),
+    /// so that [`Dynamic::shift_arm_input`] can move the state to where a
+    /// different arm would have put it. The caller gives H before each sample
+    /// with [`Dynamic::set_arm_input`]. Off by default; the pipeline switches
+    /// it on with `--lever-arm auto`.
+    pub fn track_arm_input(&mut self, on: bool) {
+        self.arm = match (on, self.arm) {
+            (false, _) => None,
+            (true, Some(s)) => Some(s),
+            (true, None) => Some(InputSensitivity::zero()),
+        };
+    }
+
+    /// H = ω̇× + ω×ω× (body frame, 1/s²) of the next sample, for
+    /// [`Dynamic::track_arm_input`]: a lever-arm error δr offsets that
+    /// sample's accelerometer input by H·δr. Kept until changed; a non-finite
+    /// H is taken as zero.
+    pub fn set_arm_input(&mut self, h: &nalgebra::Matrix3<f64>) {
+        self.arm_input = if h.iter().all(|v| v.is_finite()) {
+            *h
+        } else {
+            nalgebra::Matrix3::zeros()
+        };
+    }
+
+    /// From now on the accelerometer input will be offset by H·`delta` on
+    /// every sample (−Δr̂ when the lever-arm estimate grows by Δr̂, m): move
+    /// the state to what it would be had every sample so far been offset the
+    /// same way (first order, as [`Dynamic::shift_accel_input`];
+    /// [`Dynamic::track_arm_input`] must be on, otherwise nothing happens).
+    pub fn shift_arm_input(&mut self, delta: Vec3) {
+        if let Some(s) = self.arm {
+            self.shift_by(&s, delta);
+        }
     }
 
     /// True while the input sensitivity is tracked ([`Dynamic::track_accel_input`]).
@@ -386,7 +481,12 @@ impl Dynamic {
     /// ([`Dynamic::tilt_correction`]), so the gyro-only attitude q₀ that
     /// the mount estimator observes is unchanged.
     pub fn shift_accel_input(&mut self, delta: Vec3) {
-        let Some(s) = self.sens else { return };
+        if let Some(s) = self.sens {
+            self.shift_by(&s, delta);
+        }
+    }
+
+    fn shift_by(&mut self, s: &InputSensitivity, delta: Vec3) {
         if !(finite3(&delta) && self.initialised) {
             return;
         }
@@ -528,6 +628,12 @@ impl AttitudeFilter for Dynamic {
                 if self.sens.is_some() {
                     self.sens = Some(InputSensitivity::aligned(&q, self.inv.gravity));
                 }
+                if self.arm.is_some() {
+                    // the first sample's H·δr moves the initial tilt the same way
+                    let mut a = InputSensitivity::aligned(&q, self.inv.gravity);
+                    a.phi *= self.arm_input;
+                    self.arm = Some(a);
+                }
                 return Step::Initialised;
             }
             Admit::Reject => return Step::Rejected,
@@ -640,6 +746,22 @@ impl AttitudeFilter for Dynamic {
                 1.0 - 2.0 * (qx * qx + qy * qy),
             );
             sn.phi -= rot * sn.bias * dt;
+            if let Some(sa) = &mut self.arm {
+                sa.phi -= rot * sa.bias * dt;
+            }
+        } else if let Some(sa) = &mut self.arm {
+            let rot = nalgebra::Matrix3::new(
+                r00,
+                r01,
+                r02,
+                r10,
+                r11,
+                r12,
+                2.0 * (qx * qz - qw * qy),
+                2.0 * (qy * qz + qw * qx),
+                1.0 - 2.0 * (qx * qx + qy * qy),
+            );
+            sa.phi -= rot * sa.bias * dt;
         }
 
         if acc.x == 0.0 && acc.y == 0.0 && acc.z == 0.0 {
@@ -695,32 +817,25 @@ impl AttitudeFilter for Dynamic {
                 cy -= ks * fe;
             }
             kc = (cx, cy);
-            if let Some(sn) = &mut self.sens {
-                // the same loop, linearised about this sample, driven by δa:
-                // δf = φ × f_nav + R·δa (horizontal), δv ← (δv + δf·dt)·decay,
-                // δc = k·(δv_N, −δv_E) + ks·(δf_N, −δf_E), φ += δc
+            if self.sens.is_some() || self.arm.is_some() {
                 let fu = 2.0 * (qx * qz - qw * qy) * acc.x
                     + 2.0 * (qy * qz + qw * qx) * acc.y
                     + (1.0 - 2.0 * (qx * qx + qy * qy)) * acc.z;
-                let (row_e, row_n) = ([r00, r01, r02], [r10, r11, r12]);
-                for (j, (&re, &rn)) in row_e.iter().zip(&row_n).enumerate() {
-                    let (px, py, pz) = (sn.phi[(0, j)], sn.phi[(1, j)], sn.phi[(2, j)]);
-                    let dfe = py * fu - pz * fnn + re;
-                    let dfn = pz * fe - px * fu + rn;
-                    let dve = (sn.vel[(0, j)] + dfe * dt) * decay;
-                    let dvn = (sn.vel[(1, j)] + dfn * dt) * decay;
-                    sn.vel[(0, j)] = dve;
-                    sn.vel[(1, j)] = dvn;
-                    let dcx = k * dvn + ks * dfn;
-                    let dcy = -k * dve - ks * dfe;
-                    sn.phi[(0, j)] = px + dcx;
-                    sn.phi[(1, j)] = py + dcy;
-                    // the bias update below, mapped the same way (Rᵀ·δc)
-                    if p.learn_bias && kb_over_kt > 0.0 && self.time > p.start_time_s {
-                        sn.bias[(0, j)] -= (r00 * dcx + r10 * dcy) * kb_over_kt;
-                        sn.bias[(1, j)] -= (r01 * dcx + r11 * dcy) * kb_over_kt;
-                        sn.bias[(2, j)] -= (r02 * dcx + r12 * dcy) * kb_over_kt;
-                    }
+                let rows = [[r00, r01, r02], [r10, r11, r12]];
+                let learn = (p.learn_bias && kb_over_kt > 0.0 && self.time > p.start_time_s)
+                    .then_some(kb_over_kt);
+                let f_nav = (fe, fnn, fu);
+                if let Some(sn) = &mut self.sens {
+                    sn.step(rows[0], rows[1], f_nav, &rows, decay, k, ks, dt, learn);
+                }
+                if let Some(sa) = &mut self.arm {
+                    // the drive is R·H: rows E and N of the rotated lever input
+                    let h = &self.arm_input;
+                    let drive = |r: &[f64; 3]| {
+                        [0, 1, 2].map(|j| r[0] * h[(0, j)] + r[1] * h[(1, j)] + r[2] * h[(2, j)])
+                    };
+                    let (de, dn) = (drive(&rows[0]), drive(&rows[1]));
+                    sa.step(de, dn, f_nav, &rows, decay, k, ks, dt, learn);
                 }
             }
         }
@@ -748,8 +863,12 @@ impl AttitudeFilter for Dynamic {
             // constant `rest_bias_tau_s` once that much rest has been seen
             self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
             self.bias += (self.gyr_lp - self.bias) * (dt / self.bias_info_s);
+            let keep = 1.0 - dt / self.bias_info_s;
             if let Some(sn) = &mut self.sens {
-                sn.bias *= 1.0 - dt / self.bias_info_s;
+                sn.bias *= keep;
+            }
+            if let Some(sa) = &mut self.arm {
+                sa.bias *= keep;
             }
         } else {
             // what was learnt at rest ages while moving (bias drifts with time and temperature)
@@ -769,10 +888,11 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn reset(&mut self) {
-        let (track, corr) = (self.sens.is_some(), self.corr.is_some());
+        let (track, corr, arm) = (self.sens.is_some(), self.corr.is_some(), self.arm.is_some());
         *self = Self::new(self.params);
         self.track_accel_input(track);
         self.track_tilt_correction(corr);
+        self.track_arm_input(arm);
     }
 
     fn gyro_bias(&self) -> Vec3 {
@@ -1133,6 +1253,73 @@ mod tests {
         d.update(Vector3::zeros(), Vector3::new(0.0, 0.0, G0), dt);
         let q = d.attitude();
         d.shift_accel_input(da);
+        assert_eq!(d.attitude(), q);
+    }
+
+    #[test]
+    fn shifting_the_arm_input_equals_having_run_with_it() {
+        // As for the accelerometer offset, with the offset H·δr of a lever-arm
+        // error: H = ω̇× + ω×ω× changes with every sample of the turn. A reads
+        // f + H·δr from the start; B reads f and is shifted by δr at t = 14 s
+        // (4 s into the turn), then reads f + H·δr; C is B without the shift.
+        let dt = 0.01;
+        let dr = Vector3::new(0.3, -0.25, 0.2); // m
+        let gb = Vector3::new(0.3, -0.2, 0.1) * core::f64::consts::PI / 180.0;
+        let mut a = Dynamic::default();
+        let mut b = Dynamic::default();
+        b.track_arm_input(true);
+        let mut c = b.clone();
+        let mut noise = Noise(23);
+        let t_shift = 14.0;
+        let mut report = None;
+        let mut max_offset = 0.0f64;
+        for k in 0..(20.0 / dt) as usize {
+            let t = k as f64 * dt;
+            let (_, w, f) = turning(t);
+            // ω̇ by a central difference of the turn's (smooth) rate
+            let w_dot = (turning(t + 1e-4).1 - turning(t - 1e-4).1) / 2e-4;
+            let wx = w.cross_matrix();
+            let h = w_dot.cross_matrix() + wx * wx;
+            let off = h * dr;
+            max_offset = max_offset.max(off.norm());
+            let (gyr, acc) = (w + gb + noise.vec(0.001), f + noise.vec(0.03));
+            a.update(gyr, acc + off, dt);
+            let shifted = t >= t_shift;
+            b.set_arm_input(&h);
+            c.set_arm_input(&h);
+            b.update(gyr, if shifted { acc + off } else { acc }, dt);
+            c.update(gyr, acc, dt);
+            if (t - t_shift).abs() < 0.5 * dt {
+                b.shift_arm_input(dr);
+                report = Some((
+                    tilt_err(&b.attitude(), &a.attitude()),
+                    tilt_err(&c.attitude(), &a.attitude()),
+                ));
+            }
+        }
+        // the offset is a few hundredths of g at the turn's 1 rad/s
+        assert!(max_offset > 0.1, "{max_offset}");
+        let (e_b, e_c) = report.unwrap();
+        assert!(e_c > 0.05f64.to_radians(), "{}°", e_c.to_degrees());
+        assert!(
+            e_b < 0.01 * e_c,
+            "{}° vs {}°",
+            e_b.to_degrees(),
+            e_c.to_degrees()
+        );
+        let e_end = tilt_err(&b.attitude(), &a.attitude());
+        let e_end_c = tilt_err(&c.attitude(), &a.attitude());
+        assert!(
+            e_end < 0.05 * e_end_c,
+            "{}° vs {}°",
+            e_end.to_degrees(),
+            e_end_c.to_degrees()
+        );
+        // not tracked: no effect
+        let mut d = Dynamic::default();
+        d.update(Vector3::zeros(), Vector3::new(0.0, 0.0, G0), dt);
+        let q = d.attitude();
+        d.shift_arm_input(dr);
         assert_eq!(d.attitude(), q);
     }
 

@@ -526,7 +526,10 @@ mod mount_tests {
         // estimate is. Measured on this seed, 3–13 s after the first slew
         // began: 0.327° with the shift disabled (checked by removing the
         // `shift_accel_input` call in the pipeline), 0.051° with it; over the
-        // whole run 0.17° before the fix (the test above), 0.108° after.
+        // whole run 0.17° before the fix (the test above), 0.108° after, and
+        // 0.097° since the whole estimate (the Kalman filter's posterior mean)
+        // is applied instead of a share 1 − σ²/σ₀² of it (a second shrinkage
+        // towards zero on top of the one the prior already makes).
         let m = SlewingPlatform::default();
         let (model, _) = uncalibrated_bias();
         let s = model.simulate(&m, 200.0, 120.0, 1);
@@ -548,7 +551,7 @@ mod mount_tests {
         }
         let (all, early) = (all.value().to_degrees(), early.value().to_degrees());
         assert!(early < 0.15, "3–13 s after the first slew began: {early}°");
-        assert!(all < 0.125, "{all}°");
+        assert!(all < 0.1, "{all}°");
     }
 
     #[test]
@@ -571,8 +574,11 @@ mod mount_tests {
         // the component along the slew axis makes no acceleration: only x, y
         assert!(dr.xy().norm() < 0.05, "arm error {dr:?}");
         assert!(e.lever_arm_sigma().xy().norm() < 0.05);
-        // measured 0.117° on this seed (0.12–0.16° over seeds 1–3, BENCHMARKS.md)
-        assert!(tilt < 0.15, "{tilt}");
+        // measured 0.104° on this seed (issue 13 asks ≤ 0.15°): the filter's
+        // state is moved with each new pair of estimates (bias and arm) as had
+        // they been removed from the start (`Dynamic::shift_arm_input`);
+        // without that feedback, 0.117° (0.12–0.17° over seeds 1–3)
+        assert!(tilt < 0.11, "{tilt}");
     }
 
     #[test]
