@@ -472,7 +472,14 @@ impl Pipeline {
                 // from the samples before
                 self.mount_blocks = m.blocks();
                 let feedback = m.options().estimate_bias;
-                let target = m.accel_bias();
+                // the whole estimate where the mount's accelerations are
+                // modelled (a lever arm), the share the data have pinned down
+                // where they are not (MountEstimator::applied_accel_bias)
+                let target = if self.lever.is_some() {
+                    m.accel_bias()
+                } else {
+                    m.applied_accel_bias()
+                };
                 let delta = target - self.applied_bias;
                 if let (true, Some(d)) = (feedback, self.filter.as_dynamic_mut()) {
                     d.shift_accel_input(-delta);
