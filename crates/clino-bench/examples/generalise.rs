@@ -180,6 +180,10 @@ enum Sensor {
     ScaleMixed,
     /// The calibrated sensor with an uncalibrated accelerometer bias (7, −10, 5) mg.
     Bias,
+    /// The calibrated sensor with gyro scale errors (+2, −1.5, +1) % (an
+    /// MPU6050's sensitivity tolerance is ±3 %): fast turns leave a tilt
+    /// error the loop must remove at the next rest.
+    GyroScale,
 }
 
 impl Sensor {
@@ -189,6 +193,7 @@ impl Sensor {
             Sensor::ScaleLow => "acc-4%",
             Sensor::ScaleMixed => "acc±5%",
             Sensor::Bias => "acc-bias10mg",
+            Sensor::GyroScale => "gyro±2%",
         }
     }
     fn model(self, rate: f64) -> ImuModel {
@@ -201,6 +206,7 @@ impl Sensor {
             Sensor::ScaleLow => m.accel.scale = Vec3::repeat(-0.04),
             Sensor::ScaleMixed => m.accel.scale = Vec3::new(0.05, -0.05, 0.03),
             Sensor::Bias => m.accel.bias = Vec3::new(7.0, -10.0, 5.0) * mg,
+            Sensor::GyroScale => m.gyro.scale = Vec3::new(0.02, -0.015, 0.01),
         }
         m
     }
@@ -435,6 +441,8 @@ fn main() -> clino::Result<()> {
     for (kind, sensor, rate) in [
         (Kind::Hand, Sensor::Calibrated, 40.0),
         (Kind::Hand, Sensor::ScaleMixed, 40.0),
+        (Kind::Hand, Sensor::GyroScale, 40.0),
+        (Kind::Hand, Sensor::GyroScale, 100.0),
         (Kind::Slow, Sensor::ScaleLow, 125.0),
         (Kind::SlowVib, Sensor::ScaleLow, 125.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),
