@@ -176,8 +176,9 @@ pub struct DynamicParams {
     /// threshold behind and no rest is recognised again: with (+2, −1.5, +1) %
     /// errors in the hand simulation, 1.11–1.12× VQF's error without the
     /// learning, 0.57–0.59× with it (BENCHMARKS.md). Off by default because
-    /// on calibrated gyros it has nothing to find and costs a little: BROAD
-    /// 0.667° against 0.660°, the slewing machine 0.116° against 0.102°.
+    /// on calibrated gyros it has nothing to find and costs a little (with
+    /// `lowpass_tau_s` = 0.25 s, against the defaults): BROAD 0.667° against
+    /// 0.660°, the slewing machine 0.116° against 0.102°.
     pub gyro_scale_sigma: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
@@ -282,7 +283,7 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// the direction by up to 1.4°, differently at each pose), then the rest's
 /// sway and the bias error's drift over the motion. (0.17° was measured to
 /// learn the accelerometer's errors into the gyro's: slow motion with
-/// vibration 0.075° → 0.147°.)
+/// vibration at 100 Hz 0.076° → 0.147°, both with `lowpass_tau_s` = 0.25 s.)
 const SCALE_OBS_NOISE_RAD: f64 = 0.03;
 
 impl ScaleLearner {
@@ -809,7 +810,8 @@ impl AttitudeFilter for Dynamic {
                             let r = SCALE_OBS_NOISE_RAD / p.gyro_scale_sigma;
                             let lam = nalgebra::Matrix3::identity() * (r * r);
                             if let Some(inv) = (l.a + lam).try_inverse() {
-                                let m = 3.0 * p.gyro_scale_sigma;
+                                // at most 3σ, and never near a sign change of 1 − s
+                                let m = (3.0 * p.gyro_scale_sigma).min(0.5);
                                 let s_new = inv * l.g;
                                 if finite3(&s_new) {
                                     l.s = s_new.map(|v| v.clamp(-m, m));
@@ -862,8 +864,8 @@ impl AttitudeFilter for Dynamic {
         let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
         let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
 
-        // a gyro-bias offset B·δa turns the attitude by −R·B·δa·dt
-        if let Some(sn) = &mut self.sens {
+        // a gyro-bias offset B·δ turns the attitude by −R·B·δ·dt
+        if self.sens.is_some() || self.arm.is_some() {
             let rot = nalgebra::Matrix3::new(
                 r00,
                 r01,
@@ -875,23 +877,9 @@ impl AttitudeFilter for Dynamic {
                 2.0 * (qy * qz + qw * qx),
                 1.0 - 2.0 * (qx * qx + qy * qy),
             );
-            sn.phi -= rot * sn.bias * dt;
-            if let Some(sa) = &mut self.arm {
-                sa.phi -= rot * sa.bias * dt;
+            for sn in [&mut self.sens, &mut self.arm].into_iter().flatten() {
+                sn.phi -= rot * sn.bias * dt;
             }
-        } else if let Some(sa) = &mut self.arm {
-            let rot = nalgebra::Matrix3::new(
-                r00,
-                r01,
-                r02,
-                r10,
-                r11,
-                r12,
-                2.0 * (qx * qz - qw * qy),
-                2.0 * (qy * qz + qw * qx),
-                1.0 - 2.0 * (qx * qx + qy * qy),
-            );
-            sa.phi -= rot * sa.bias * dt;
         }
 
         if acc.x == 0.0 && acc.y == 0.0 && acc.z == 0.0 {
