@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 20] = [
+const DYNAMIC_PARAMS: [ParamInfo; 22] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -285,7 +285,19 @@ const DYNAMIC_PARAMS: [ParamInfo; 20] = [
         "lowpass_tau_s",
         "s",
         POSITIVE,
-        "low-pass of rest detection and of |ω|",
+        "low-pass of |ω| for the bandwidth adaptation",
+    ),
+    p(
+        "rest_lowpass_tau_s",
+        "s",
+        POSITIVE,
+        "low-pass rest detection compares the rate with",
+    ),
+    p(
+        "rest_window_s",
+        "s",
+        POSITIVE,
+        "longest memory of the stillness means rest compares with",
     ),
     p(
         "vibration_tau_s",
@@ -531,6 +543,8 @@ impl FilterSpec {
                     "rest_bias_tau_s" => &mut d.rest_bias_tau_s,
                     "bias_memory_s" => &mut d.bias_memory_s,
                     "lowpass_tau_s" => &mut d.lowpass_tau_s,
+                    "rest_window_s" => &mut d.rest_window_s,
+                    "rest_lowpass_tau_s" => &mut d.rest_lowpass_tau_s,
                     "vibration_tau_s" => &mut d.vibration_tau_s,
                     "bias_max_rad_s" => &mut d.bias_max_rad_s,
                     "start_bandwidth_rad_s" => &mut d.start_bandwidth_rad_s,
@@ -580,6 +594,8 @@ impl FilterSpec {
                 "rest_bias_tau_s" => n(d.rest_bias_tau_s),
                 "bias_memory_s" => n(d.bias_memory_s),
                 "lowpass_tau_s" => n(d.lowpass_tau_s),
+                "rest_window_s" => n(d.rest_window_s),
+                "rest_lowpass_tau_s" => n(d.rest_lowpass_tau_s),
                 "vibration_tau_s" => n(d.vibration_tau_s),
                 "bias_max_rad_s" => n(d.bias_max_rad_s),
                 "start_bandwidth_rad_s" => n(d.start_bandwidth_rad_s),
@@ -638,6 +654,8 @@ impl FilterSpec {
                     ("rest_bias_tau_s", d.rest_bias_tau_s),
                     ("bias_memory_s", d.bias_memory_s),
                     ("lowpass_tau_s", d.lowpass_tau_s),
+                    ("rest_window_s", d.rest_window_s),
+                    ("rest_lowpass_tau_s", d.rest_lowpass_tau_s),
                     ("vibration_tau_s", d.vibration_tau_s),
                     ("bias_max_rad_s", d.bias_max_rad_s),
                     ("start_bandwidth_rad_s", d.start_bandwidth_rad_s),

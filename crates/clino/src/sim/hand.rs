@@ -415,11 +415,7 @@ mod filter_tests {
         let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
         let truth = Vec3::new(0.02, -0.015, 0.01);
         model.gyro.scale = truth;
-        let on = clino_core::filter::DynamicParams {
-            lowpass_tau_s: 0.25,
-            gyro_scale_sigma: 0.03,
-            ..Default::default()
-        };
+        let on = clino_core::filter::DynamicParams::default();
         let off = clino_core::filter::DynamicParams {
             gyro_scale_sigma: 0.0,
             ..on
@@ -441,7 +437,9 @@ mod filter_tests {
             "calibrated: learnt {:?}: {c_on}° against {c_off}°",
             dc.gyro_scale()
         );
-        assert!(dc.gyro_scale().amax() < 0.004, "{:?}", dc.gyro_scale());
+        // weighted by the evidence that there is any scale error: < 0.01 %
+        // (the posterior mean alone, before that weighting: up to 0.09 %)
+        assert!(dc.gyro_scale().amax() < 0.0005, "{:?}", dc.gyro_scale());
         assert!(c_on < 1.1 * c_off, "{c_on}° against {c_off}°");
     }
 }
