@@ -952,10 +952,34 @@ impl AttitudeFilter for Dynamic {
         let dq = Quaternion::new(c, s * w.x, s * w.y, s * w.z);
         let q = q * dq;
         if self.gsl.active && !self.rest {
+            // J += C·diag(ω)·dt, C the rotation of the segment's quaternion (unit
+            // to rounding: each step is; normalised where it is used)
             let l = &mut self.gsl;
             l.seg *= dq;
-            let rot = nalgebra::UnitQuaternion::new_normalize(l.seg).to_rotation_matrix();
-            l.j += rot.matrix() * nalgebra::Matrix3::from_diagonal(&w) * dt;
+            let (a, b, c, d) = (l.seg.w, l.seg.i, l.seg.j, l.seg.k);
+            let cols = [
+                [
+                    1.0 - 2.0 * (c * c + d * d),
+                    2.0 * (b * c + a * d),
+                    2.0 * (b * d - a * c),
+                ],
+                [
+                    2.0 * (b * c - a * d),
+                    1.0 - 2.0 * (b * b + d * d),
+                    2.0 * (c * d + a * b),
+                ],
+                [
+                    2.0 * (b * d + a * c),
+                    2.0 * (c * d - a * b),
+                    1.0 - 2.0 * (b * b + c * c),
+                ],
+            ];
+            for (k, col) in cols.iter().enumerate() {
+                let wk = w[k] * dt;
+                for (i, v) in col.iter().enumerate() {
+                    l.j[(i, k)] += v * wk;
+                }
+            }
             l.seg_time += dt;
         }
 
