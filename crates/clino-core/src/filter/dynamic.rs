@@ -210,8 +210,8 @@ pub struct DynamicParams {
     /// errors at all (against a calibrated one, prior 1/2), so a calibrated
     /// gyro, whose rest pairs show nothing beyond their noise, keeps its scale
     /// near zero: the slow motion with vibration, sensitive to 0.1 % because
-    /// its loop is slow, 0.86× VQF with the learning and 0.83× without; BROAD
-    /// 0.659° both.
+    /// its loop is slow, 0.86× VQF with the learning and 0.85× without; BROAD
+    /// 0.659° with it and 0.662° without.
     pub gyro_scale_sigma: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
