@@ -1464,7 +1464,8 @@ mod tests {
         // accelerometer reads as a 0.88° tilt. Before the fix the alignment pull
         // (1 rad/s) acted at every rest until 8 s of rest had been seen, so it
         // turned most of the acceleration into tilt within a few seconds (this
-        // test on that code: 0.69° largest error in the 4.5 s after the turn);
+        // test on that code: 0.69° largest error in the 4.5 s after the turn
+        // with the 0.5-s rest low-pass, 0.85° with today's rest detection);
         // a later rest now only teaches the bias, and the tilt follows the
         // acceleration through the slow loop alone (0.42°).
         let dt = 0.01;
