@@ -184,6 +184,9 @@ enum Sensor {
     /// MPU6050's sensitivity tolerance is ±3 %): fast turns leave a tilt
     /// error the loop must remove at the next rest.
     GyroScale,
+    /// Both triads' scale errors at once: gyro (+2, −1.5, +1) % and
+    /// accelerometer (+5, −5, +3) % (an MPU6050 out of the box, less its biases).
+    ScaleBoth,
 }
 
 impl Sensor {
@@ -194,6 +197,7 @@ impl Sensor {
             Sensor::ScaleMixed => "acc±5%",
             Sensor::Bias => "acc-bias10mg",
             Sensor::GyroScale => "gyro±2%",
+            Sensor::ScaleBoth => "gyro±2%+acc±5%",
         }
     }
     fn model(self, rate: f64) -> ImuModel {
@@ -207,6 +211,10 @@ impl Sensor {
             Sensor::ScaleMixed => m.accel.scale = Vec3::new(0.05, -0.05, 0.03),
             Sensor::Bias => m.accel.bias = Vec3::new(7.0, -10.0, 5.0) * mg,
             Sensor::GyroScale => m.gyro.scale = Vec3::new(0.02, -0.015, 0.01),
+            Sensor::ScaleBoth => {
+                m.gyro.scale = Vec3::new(0.02, -0.015, 0.01);
+                m.accel.scale = Vec3::new(0.05, -0.05, 0.03);
+            }
         }
         m
     }
@@ -443,6 +451,9 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::ScaleMixed, 40.0),
         (Kind::Hand, Sensor::GyroScale, 40.0),
         (Kind::Hand, Sensor::GyroScale, 100.0),
+        (Kind::Hand, Sensor::ScaleMixed, 100.0),
+        (Kind::Hand, Sensor::ScaleBoth, 40.0),
+        (Kind::SlowVib, Sensor::ScaleMixed, 125.0),
         (Kind::Slow, Sensor::ScaleLow, 125.0),
         (Kind::SlowVib, Sensor::ScaleLow, 125.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),

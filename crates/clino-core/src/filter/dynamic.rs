@@ -83,11 +83,13 @@
 //!   rest after power-on the same pull acts for up to `alignment_s` (coarse
 //!   alignment, ended by the first motion), so any initial attitude converges
 //!   as soon as the mount is still.
-//! * **Gyro scale.** Successive rests give the gravity direction at both ends
-//!   of a motion; the gyro's propagation between them misses it by an amount
-//!   linear in the gyro's scale-factor errors, which are learnt by regularised
+//! * **Gyro and accelerometer scale.** Successive rests give the gravity
+//!   direction at both ends of a motion; the gyro's propagation between them
+//!   misses it by an amount linear in the gyro's scale-factor errors (growing
+//!   with the angle turned) and in the accelerometer's (turning each pose's
+//!   direction by P_u·diag(u)·d), which are learnt together by regularised
 //!   least squares and applied weighted by the evidence that there are any
-//!   ([`DynamicParams::gyro_scale_sigma`]).
+//!   ([`DynamicParams::gyro_scale_sigma`], [`DynamicParams::accel_scale_sigma`]).
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
 //!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
 //!   metres per second squared at tens of hertz without moving the mount.
@@ -215,6 +217,22 @@ pub struct DynamicParams {
     /// its loop is slow, 0.86× VQF with the learning and 0.85× without; BROAD
     /// 0.659° with it and 0.662° without.
     pub gyro_scale_sigma: f64,
+    /// Prior 1σ of each accelerometer scale-factor error, learnt with the
+    /// gyro's from the same rest pairs (fraction). Default 0.03, an MPU6050's
+    /// accelerometer calibration tolerance (±3 %, datasheet); 0 turns it off.
+    ///
+    /// A per-axis scale error turns the measured gravity direction by
+    /// P_u·diag(u)·d (P_u = I − u·uᵀ): up to (d_x − d_z)/2 rad at 45° of tilt,
+    /// 2.9° for ±5 %, the same at rest and in motion, so every filter that
+    /// trusts the accelerometer's direction keeps it as a steady offset. From
+    /// the magnitude alone it is not observable within a cap of poses (z bias
+    /// and scale errors are the same function of the pose to second order),
+    /// but the gyro carries the direction from one rest to the next and the
+    /// two measured directions then differ by an amount linear in d, and
+    /// different from the gyro-scale signature (which grows with the angle
+    /// turned, not with the pose). A common scale of all three axes does not
+    /// turn the direction and is not learnt (it is harmless).
+    pub accel_scale_sigma: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
     /// Learn the gyro bias (at rest and in motion). Default true; the offline
@@ -245,6 +263,7 @@ impl Default for DynamicParams {
             start_time_s: 3.0,
             alignment_s: 8.0,
             gyro_scale_sigma: 0.03,
+            accel_scale_sigma: 0.03,
             gravity_m_s2: G0,
             learn_bias: true,
         }
@@ -292,28 +311,37 @@ pub struct Dynamic {
     gsl: ScaleLearner,
 }
 
-/// Gyro scale-factor errors learnt from rest to rest
-/// ([`DynamicParams::gyro_scale_sigma`]). The gyro's propagation C (current
-/// body frame → body frame at the last rest) with a remaining scale error σ
-/// is off by the rotation ψ = −J·σ, J = ∫C·diag(ω)·dt (in the frame of the
-/// last rest; dψ = C·δω·dt with δω = −diag(ω)·σ). The gravity direction u₀
-/// at that rest, carried to the next one, then misses the one measured
-/// there, u₁, by C·u₁ − u₀ = u₀ × ψ = −[u₀]×·J·σ: one linear observation of
-/// the scale errors per pair of rests (two components; the rotation about
-/// gravity is not seen). The estimate s is the regularised least-squares
-/// solution of all of them, (Σ HᵀH + λI)·s = Σ Hᵀ(y + H·s_used), with
-/// λ = (r/σ₀)² from the prior σ₀ and the noise r of one observation.
+/// Gyro and accelerometer scale-factor errors learnt from rest to rest
+/// ([`DynamicParams::gyro_scale_sigma`], [`DynamicParams::accel_scale_sigma`]).
+/// The gyro's propagation C (current body frame → body frame at the last
+/// rest) with a remaining scale error σ is off by the rotation ψ = −J·σ,
+/// J = ∫C·diag(ω)·dt (in the frame of the last rest; dψ = C·δω·dt with
+/// δω = −diag(ω)·σ). The gravity direction u₀ at that rest, carried to the
+/// next one, then misses the one measured there, u₁, by
+/// C·u₁ − u₀ = u₀ × ψ = −[u₀]×·J·σ. A remaining accelerometer scale error δ
+/// turns each measured direction by P_u·diag(u)·δ (P_u = I − u·uᵀ), which adds
+/// (C·P_u₁·diag(u₁) − P_u₀·diag(u₀))·δ. One linear observation of the six
+/// errors per pair of rests (two components; the rotation about gravity and
+/// a common accelerometer scale are not seen). The estimate x = (σ, δ) is the
+/// regularised least-squares solution of all of them,
+/// (Σ HᵀH + Λ)·x = Σ Hᵀ(y + H·x_used), with Λ = diag((r/σ₀)²) from the priors
+/// σ₀ and the noise r of one observation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ScaleLearner {
     seg: Quaternion<f64>,
     j: nalgebra::Matrix3<f64>,
     u0: Vec3,
+    /// The mean specific force of the last rest (input as corrected now), m/s².
+    f0: Vec3,
     active: bool,
     was_rest: bool,
     seg_time: f64,
-    a: nalgebra::Matrix3<f64>,
-    g: Vec3,
+    a: nalgebra::Matrix6<f64>,
+    g: nalgebra::Vector6<f64>,
+    /// Gyro scale errors applied: the rate used is (ω_meas − b)·(1 − s).
     s: Vec3,
+    /// Accelerometer scale errors applied: the specific force used is f_meas·(1 − d).
+    d: Vec3,
 }
 
 /// Rest after which the bias counts as learnt and the tight rest threshold
@@ -325,39 +353,52 @@ const REST_LEARNT_S: f64 = 0.5;
 const SCALE_SEGMENT_MAX_S: f64 = 60.0;
 /// Largest miss of the gravity directions that is used, rad (20°).
 const SCALE_MISS_MAX_RAD: f64 = 0.35;
-/// 1σ of one observation, rad (1.7°): the error of the gravity direction at
-/// a short rest, dominated by an uncalibrated accelerometer (a bias cancels
-/// between the two rests of a pair, but ±5 % of per-axis scale error turns
-/// the direction by up to 1.4°, differently at each pose), then the rest's
-/// sway and the bias error's drift over the motion. (0.17° was measured to
-/// learn the accelerometer's errors into the gyro's: slow motion with
-/// vibration at 100 Hz 0.076° → 0.147°, both with 0.25-s low-passes.)
-const SCALE_OBS_NOISE_RAD: f64 = 0.03;
+/// 1σ of one observation, rad (1.1°): the error of the gravity direction at
+/// a rest that the model leaves out, dominated by the accelerometer's
+/// cross-axis sensitivity (±2 % for an MPU6050, datasheet: it turns the
+/// direction by up to 0.02 rad, differently at each pose; a bias cancels
+/// between the two rests of a pair and the per-axis scale errors are
+/// learnt), then the rest's sway and the bias error's drift over the motion
+/// (≈ 0.0015 rad over the 11-s moves of the calibrated hand simulation,
+/// 0.003 rad over 30–45 s of slow motion). Measured on the generalisation
+/// grid (BENCHMARKS.md): 0.03 (the value while only the gyro was learnt)
+/// learnt ±5 % of accelerometer error only to a third (0.90× VQF); 0.01–0.015
+/// took noise of the slow motion with vibration for scale (0.87× → 0.91–0.94×
+/// VQF, worst 1.22×).
+const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 
-/// Probability that the gyro has scale errors at all, given the rest pairs
-/// seen (prior 1/2), against the hypothesis that it is calibrated (σ = 0).
+/// Probability that the sensors have scale errors at all, given the rest
+/// pairs seen (prior 1/2), against the hypothesis that they are calibrated
+/// (x = 0).
 ///
 /// The marginal likelihoods of the two hypotheses for the linear model
-/// y = H·σ + e, e ~ N(0, r²I), σ ~ N(0, σ₀²I) under the first: their ratio is
-/// det(I + A/λ)^(−1/2) · exp(gᵀ(A + λI)⁻¹g / 2r²), A = ΣHᵀH, g = ΣHᵀy,
-/// λ = (r/σ₀)². The estimate applied is this probability times the
-/// posterior mean (the mean under the mixture of the two priors): a
-/// calibrated gyro, whose rest pairs show nothing beyond their noise, keeps a
-/// scale near zero however many pairs are seen, while an error of ≥ 1 % is
+/// y = H·x + e, e ~ N(0, r²I), x ~ N(0, r²Λ⁻¹) under the first (Λ diagonal,
+/// λᵢ = (r/σ₀ᵢ)²): their ratio is det(I + Λ⁻¹A)^(−1/2) · exp(gᵀ(A + Λ)⁻¹g / 2r²),
+/// A = ΣHᵀH, g = ΣHᵀy. The estimate applied is this probability times the
+/// posterior mean `x_post` (the mean under the mixture of the two priors):
+/// calibrated sensors, whose rest pairs show nothing beyond their noise, keep
+/// scales near zero however many pairs are seen, while an error of ≥ 1 % is
 /// taken at full weight once a few turns have shown it consistently.
 fn scale_error_probability(
-    a: &nalgebra::Matrix3<f64>,
-    g: &Vec3,
-    s_post: &Vec3,
+    a: &nalgebra::Matrix6<f64>,
+    g: &nalgebra::Vector6<f64>,
+    x_post: &nalgebra::Vector6<f64>,
     r2: f64,
-    lam: f64,
+    lam: &nalgebra::Vector6<f64>,
 ) -> f64 {
-    let det = (nalgebra::Matrix3::identity() + a / lam).determinant();
+    let mut m = *a;
+    for i in 0..6 {
+        for j in 0..6 {
+            m[(i, j)] /= lam[i];
+        }
+        m[(i, i)] += 1.0;
+    }
+    let det = m.determinant();
     // det ≥ 1 for A positive semi-definite (to rounding)
     if !(det.is_finite() && det > 0.0) {
         return 0.0;
     }
-    let ln_bf = 0.5 * g.dot(s_post) / r2 - 0.5 * ln(det);
+    let ln_bf = 0.5 * g.dot(x_post) / r2 - 0.5 * ln(det);
     // 1 / (1 + e^(−ln BF)), without overflow either way
     if ln_bf >= 0.0 {
         1.0 / (1.0 + exp(-ln_bf))
@@ -373,12 +414,14 @@ impl ScaleLearner {
             seg: Quaternion::identity(),
             j: nalgebra::Matrix3::zeros(),
             u0: Vec3::zeros(),
+            f0: Vec3::zeros(),
             active: false,
             was_rest: false,
             seg_time: 0.0,
-            a: nalgebra::Matrix3::zeros(),
-            g: Vec3::zeros(),
+            a: nalgebra::Matrix6::zeros(),
+            g: nalgebra::Vector6::zeros(),
             s: Vec3::zeros(),
+            d: Vec3::zeros(),
         }
     }
 }
@@ -647,6 +690,25 @@ impl Dynamic {
     pub fn shift_accel_input(&mut self, delta: Vec3) {
         if let Some(s) = self.sens {
             self.shift_by(&s, delta);
+            if !finite3(&delta) {
+                return;
+            }
+            // what was measured at rest reads as the new input would: the
+            // last rest's gravity direction (else the next rest pair takes
+            // the bias correction for a scale error: 0.4 % of gyro scale
+            // from a 10-mg bias on the slewing machine) and the stillness means
+            let da = delta.component_mul(&(Vec3::repeat(1.0) - self.gsl.d));
+            self.acc_f += da;
+            self.acc_mean += da;
+            let l = &mut self.gsl;
+            if l.active {
+                let f0 = l.f0 + da;
+                let n = f0.norm();
+                if n > 0.0 {
+                    l.f0 = f0;
+                    l.u0 = f0 / n;
+                }
+            }
         }
     }
 
@@ -724,6 +786,14 @@ impl Dynamic {
         self.gsl.s
     }
 
+    /// The accelerometer scale-factor errors learnt from rest to rest
+    /// (fraction per body axis; the specific force used is f_meas·(1 − d)).
+    /// Zero until rest pairs in different poses have shown them, or when
+    /// [`DynamicParams::accel_scale_sigma`] is 0.
+    pub fn accel_scale(&self) -> Vec3 {
+        self.gsl.d
+    }
+
     /// True while the filter considers the mount at rest.
     pub fn at_rest(&self) -> bool {
         self.rest
@@ -784,6 +854,8 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
+        // the accelerometer's learnt scale errors (zero until rest pairs show them)
+        let acc = acc.component_mul(&(Vec3::repeat(1.0) - self.gsl.d));
         match admit(&gyr, &acc, dt, self.initialised) {
             Admit::Run => {}
             Admit::Init(q) => {
@@ -889,12 +961,13 @@ impl AttitudeFilter for Dynamic {
                 self.rested_once = true;
             }
         }
-        if p.gyro_scale_sigma > 0.0 && p.learn_bias {
+        if (p.gyro_scale_sigma > 0.0 || p.accel_scale_sigma > 0.0) && p.learn_bias {
             let l = &mut self.gsl;
             if self.rest {
                 let n = self.acc_mean.norm();
                 if n > 0.0 {
-                    let u_now = self.acc_mean / n;
+                    let mut u_now = self.acc_mean / n;
+                    let mut f_now = self.acc_mean;
                     // the first sample of a rest after a motion: one observation.
                     // Not after a minute of motion (the bias error's own drift,
                     // 0.01°/s, would then weigh as much as the scale), nor when
@@ -902,28 +975,59 @@ impl AttitudeFilter for Dynamic {
                     // taken for rest; the linearisation)
                     if !l.was_rest && l.active && l.seg_time < SCALE_SEGMENT_MAX_S {
                         let rot = nalgebra::UnitQuaternion::new_normalize(l.seg);
-                        let y = rot * u_now - l.u0;
-                        let h = -l.u0.cross_matrix() * l.j;
+                        let c = rot.to_rotation_matrix();
+                        let y = c * u_now - l.u0;
                         if y.norm() < SCALE_MISS_MAX_RAD {
-                            let y1 = y + h * l.s;
+                            let mut h = nalgebra::Matrix3x6::zeros();
+                            let r = SCALE_OBS_NOISE_RAD;
+                            let mut lam = nalgebra::Vector6::repeat(1.0);
+                            if p.gyro_scale_sigma > 0.0 {
+                                let hg = -l.u0.cross_matrix() * l.j;
+                                h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
+                                let lg = (r / p.gyro_scale_sigma).powi(2);
+                                lam.fixed_rows_mut::<3>(0).fill(lg);
+                            }
+                            if p.accel_scale_sigma > 0.0 {
+                                let pd = |u: &Vec3| {
+                                    (nalgebra::Matrix3::identity() - u * u.transpose())
+                                        * nalgebra::Matrix3::from_diagonal(u)
+                                };
+                                let ha = c.matrix() * pd(&u_now) - pd(&l.u0);
+                                h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
+                                let la = (r / p.accel_scale_sigma).powi(2);
+                                lam.fixed_rows_mut::<3>(3).fill(la);
+                            }
+                            let mut used = nalgebra::Vector6::zeros();
+                            used.fixed_rows_mut::<3>(0).copy_from(&l.s);
+                            used.fixed_rows_mut::<3>(3).copy_from(&l.d);
+                            let y1 = y + h * used;
                             l.a += h.transpose() * h;
                             l.g += h.transpose() * y1;
-                            let r = SCALE_OBS_NOISE_RAD / p.gyro_scale_sigma;
-                            let lam = nalgebra::Matrix3::identity() * (r * r);
-                            if let Some(inv) = (l.a + lam).try_inverse() {
-                                // at most 3σ, and never near a sign change of 1 − s
-                                let m = (3.0 * p.gyro_scale_sigma).min(0.5);
-                                let s_post = inv * l.g;
-                                let p1 = scale_error_probability(
-                                    &l.a,
-                                    &l.g,
-                                    &s_post,
-                                    SCALE_OBS_NOISE_RAD * SCALE_OBS_NOISE_RAD,
-                                    r * r,
-                                );
-                                let s_new = s_post * p1;
-                                if finite3(&s_new) {
-                                    l.s = s_new.map(|v| v.clamp(-m, m));
+                            let reg = l.a + nalgebra::Matrix6::from_diagonal(&lam);
+                            if let Some(inv) = reg.try_inverse() {
+                                let x_post = inv * l.g;
+                                let p1 = scale_error_probability(&l.a, &l.g, &x_post, r * r, &lam);
+                                let x_new = x_post * p1;
+                                if x_new.iter().all(|v| v.is_finite()) {
+                                    // at most 3σ, and never near a sign change of 1 − s
+                                    let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
+                                    let ma = (3.0 * p.accel_scale_sigma).min(0.5);
+                                    let d_old = l.d;
+                                    l.s = Vec3::new(x_new[0], x_new[1], x_new[2])
+                                        .map(|v| v.clamp(-mg, mg));
+                                    l.d = Vec3::new(x_new[3], x_new[4], x_new[5])
+                                        .map(|v| v.clamp(-ma, ma));
+                                    // this rest's direction as the new scale reads it
+                                    let one = Vec3::repeat(1.0);
+                                    let f = self
+                                        .acc_mean
+                                        .component_mul(&(one - l.d))
+                                        .component_div(&(one - d_old));
+                                    let nf = f.norm();
+                                    if nf > 0.0 {
+                                        u_now = f / nf;
+                                        f_now = f;
+                                    }
                                 }
                             }
                         }
@@ -931,6 +1035,7 @@ impl AttitudeFilter for Dynamic {
                     l.seg = Quaternion::identity();
                     l.j = nalgebra::Matrix3::zeros();
                     l.u0 = u_now;
+                    l.f0 = f_now;
                     l.active = true;
                     l.seg_time = 0.0;
                 }
@@ -1413,30 +1518,38 @@ mod tests {
 
     #[test]
     fn scale_evidence_is_the_ratio_of_the_two_gaussian_likelihoods() {
-        // One observation y = σ + e with H = I: under "scale errors" y ~
-        // N(0, (r² + σ₀²)·I), under "calibrated" y ~ N(0, r²·I). The
-        // probability (prior 1/2) from the two densities written out directly.
-        let (r, s0) = (0.03, 0.03);
-        let lam = (r / s0) * (r / s0);
+        // One observation y = x + e with H = I (six components, gyro priors
+        // 3 %, accelerometer priors 1 %): under "scale errors" each yᵢ ~
+        // N(0, r² + σ₀ᵢ²), under "calibrated" yᵢ ~ N(0, r²). The probability
+        // (prior 1/2) from the two densities written out directly.
+        type V6 = nalgebra::Vector6<f64>;
+        let r = 0.03;
+        let s0 = V6::new(0.03, 0.03, 0.03, 0.01, 0.01, 0.01);
+        let lam = s0.map(|s| (r / s) * (r / s));
         for y in [
-            Vector3::new(0.001, -0.002, 0.0),
-            Vector3::new(0.03, 0.01, -0.02),
-            Vector3::new(0.1, -0.05, 0.08),
+            V6::new(0.001, -0.002, 0.0, 0.001, 0.0, -0.001),
+            V6::new(0.03, 0.01, -0.02, 0.01, -0.005, 0.0),
+            V6::new(0.1, -0.05, 0.08, 0.02, 0.03, -0.01),
         ] {
-            let a = nalgebra::Matrix3::identity();
-            let s_post = y / (1.0 + lam);
-            let p = scale_error_probability(&a, &y, &s_post, r * r, lam);
-            let dens = |v: f64| {
-                (-(y.norm_squared()) / (2.0 * v)).exp()
-                    / (2.0 * core::f64::consts::PI * v).powf(1.5)
+            let a = nalgebra::Matrix6::identity();
+            let x_post = y.component_div(&lam.map(|l| 1.0 + l));
+            let p = scale_error_probability(&a, &y, &x_post, r * r, &lam);
+            let dens = |v: &V6| {
+                (0..6)
+                    .map(|i| {
+                        (-(y[i] * y[i]) / (2.0 * v[i])).exp()
+                            / (2.0 * core::f64::consts::PI * v[i]).sqrt()
+                    })
+                    .product::<f64>()
             };
-            let (l1, l0) = (dens(r * r + s0 * s0), dens(r * r));
+            let l1 = dens(&s0.map(|s| r * r + s * s));
+            let l0 = dens(&V6::repeat(r * r));
             let expected = l1 / (l1 + l0);
             assert!((p - expected).abs() < 1e-12, "{p} against {expected}");
         }
         // no information: the prior
-        let z = nalgebra::Matrix3::zeros();
-        let p = scale_error_probability(&z, &Vec3::zeros(), &Vec3::zeros(), r * r, lam);
+        let z = nalgebra::Matrix6::zeros();
+        let p = scale_error_probability(&z, &V6::zeros(), &V6::zeros(), r * r, &lam);
         assert!((p - 0.5).abs() < 1e-12);
     }
 

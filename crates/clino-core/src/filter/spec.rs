@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 22] = [
+const DYNAMIC_PARAMS: [ParamInfo; 23] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -334,6 +334,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 22] = [
         "1",
         num(0.0, 1.0, false),
         "prior 1σ of the gyro scale errors learnt from rest to rest (0: off)",
+    ),
+    p(
+        "accel_scale_sigma",
+        "1",
+        num(0.0, 1.0, false),
+        "prior 1σ of the accelerometer scale errors learnt from rest to rest (0: off)",
     ),
     p(
         "gravity_m_s2",
@@ -551,6 +557,7 @@ impl FilterSpec {
                     "start_time_s" => &mut d.start_time_s,
                     "alignment_s" => &mut d.alignment_s,
                     "gyro_scale_sigma" => &mut d.gyro_scale_sigma,
+                    "accel_scale_sigma" => &mut d.accel_scale_sigma,
                     "gravity_m_s2" => &mut d.gravity_m_s2,
                     _ => return Err(ParamError::UnknownKey),
                 };
@@ -602,6 +609,7 @@ impl FilterSpec {
                 "start_time_s" => n(d.start_time_s),
                 "alignment_s" => n(d.alignment_s),
                 "gyro_scale_sigma" => n(d.gyro_scale_sigma),
+                "accel_scale_sigma" => n(d.accel_scale_sigma),
                 "gravity_m_s2" => n(d.gravity_m_s2),
                 _ => return None,
             },
@@ -662,6 +670,7 @@ impl FilterSpec {
                     ("start_time_s", d.start_time_s),
                     ("alignment_s", d.alignment_s),
                     ("gyro_scale_sigma", d.gyro_scale_sigma),
+                    ("accel_scale_sigma", d.accel_scale_sigma),
                     ("gravity_m_s2", d.gravity_m_s2),
                 ];
                 for (k, x) in all {
