@@ -984,7 +984,7 @@ impl AttitudeFilter for Dynamic {
                             if p.gyro_scale_sigma > 0.0 {
                                 let hg = -l.u0.cross_matrix() * l.j;
                                 h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
-                                let lg = (r / p.gyro_scale_sigma).powi(2);
+                                let lg = (r / p.gyro_scale_sigma) * (r / p.gyro_scale_sigma);
                                 lam.fixed_rows_mut::<3>(0).fill(lg);
                             }
                             if p.accel_scale_sigma > 0.0 {
@@ -994,7 +994,7 @@ impl AttitudeFilter for Dynamic {
                                 };
                                 let ha = c.matrix() * pd(&u_now) - pd(&l.u0);
                                 h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
-                                let la = (r / p.accel_scale_sigma).powi(2);
+                                let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
                                 lam.fixed_rows_mut::<3>(3).fill(la);
                             }
                             let mut used = nalgebra::Vector6::zeros();
