@@ -83,13 +83,16 @@
 //!   rest after power-on the same pull acts for up to `alignment_s` (coarse
 //!   alignment, ended by the first motion), so any initial attitude converges
 //!   as soon as the mount is still.
-//! * **Gyro and accelerometer scale.** Successive rests give the gravity
-//!   direction at both ends of a motion; the gyro's propagation between them
-//!   misses it by an amount linear in the gyro's scale-factor errors (growing
-//!   with the angle turned) and in the accelerometer's (turning each pose's
-//!   direction by P_u·diag(u)·d), which are learnt together by regularised
-//!   least squares and applied weighted by the evidence that there are any
-//!   ([`DynamicParams::gyro_scale_sigma`], [`DynamicParams::accel_scale_sigma`]).
+//! * **Gyro and accelerometer scale, accelerometer bias.** Successive rests
+//!   give the gravity direction at both ends of a motion; the gyro's
+//!   propagation between them misses it by an amount linear in the gyro's
+//!   scale-factor errors (growing with the angle turned), in the
+//!   accelerometer's (turning each pose's direction by P_u·diag(u)·d) and in
+//!   its bias (P_u·b/g, pointing elsewhere in the world after a turn), which
+//!   are learnt together by regularised least squares and averaged over which
+//!   of the three groups the sensor has at all, by the evidence of the rest
+//!   pairs ([`DynamicParams::gyro_scale_sigma`],
+//!   [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
 //!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
 //!   metres per second squared at tens of hertz without moving the mount.
@@ -233,6 +236,21 @@ pub struct DynamicParams {
     /// turned, not with the pose). A common scale of all three axes does not
     /// turn the direction and is not learnt (it is harmless).
     pub accel_scale_sigma: f64,
+    /// Prior 1σ of each accelerometer bias, learnt with the scale errors from
+    /// the same rest pairs, m/s². Default 0.1 (10 mg: an MPU6050 on its board
+    /// without a user calibration has 5–10 mg per axis left after the factory
+    /// trim); 0 turns it off. Off while the pipeline's own accelerometer-bias
+    /// estimator runs (a lever arm given or estimated), which then owns it.
+    ///
+    /// A bias b turns the measured gravity direction by P_u·b/g: 0.57° of
+    /// tilt for 10 mg across gravity, the same at rest and in motion, and no
+    /// filter that trusts the accelerometer's direction can see it at one
+    /// pose. Between two rests in different poses, in particular after a turn
+    /// about the vertical (a body-frame horizontal bias then points another
+    /// way in the world, as on a slewing machine), the gyro-carried direction
+    /// misses the measured one by (C·P_u1 − P_u0)·b/g: linear in b and
+    /// different from both scale signatures.
+    pub accel_bias_sigma: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
     /// Learn the gyro bias (at rest and in motion). Default true; the offline
@@ -264,6 +282,7 @@ impl Default for DynamicParams {
             alignment_s: 8.0,
             gyro_scale_sigma: 0.03,
             accel_scale_sigma: 0.03,
+            accel_bias_sigma: 0.1,
             gravity_m_s2: G0,
             learn_bias: true,
         }
@@ -311,8 +330,9 @@ pub struct Dynamic {
     gsl: ScaleLearner,
 }
 
-/// Gyro and accelerometer scale-factor errors learnt from rest to rest
-/// ([`DynamicParams::gyro_scale_sigma`], [`DynamicParams::accel_scale_sigma`]).
+/// Gyro and accelerometer scale-factor errors and the accelerometer bias
+/// learnt from rest to rest ([`DynamicParams::gyro_scale_sigma`],
+/// [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
 /// The gyro's propagation C (current body frame → body frame at the last
 /// rest) with a remaining scale error σ is off by the rotation ψ = −J·σ,
 /// J = ∫C·diag(ω)·dt (in the frame of the last rest; dψ = C·δω·dt with
@@ -320,12 +340,14 @@ pub struct Dynamic {
 /// next one, then misses the one measured there, u₁, by
 /// C·u₁ − u₀ = u₀ × ψ = −[u₀]×·J·σ. A remaining accelerometer scale error δ
 /// turns each measured direction by P_u·diag(u)·δ (P_u = I − u·uᵀ), which adds
-/// (C·P_u₁·diag(u₁) − P_u₀·diag(u₀))·δ. One linear observation of the six
-/// errors per pair of rests (two components; the rotation about gravity and
-/// a common accelerometer scale are not seen). The estimate x = (σ, δ) is the
-/// regularised least-squares solution of all of them,
-/// (Σ HᵀH + Λ)·x = Σ Hᵀ(y + H·x_used), with Λ = diag((r/σ₀)²) from the priors
-/// σ₀ and the noise r of one observation.
+/// (C·P_u₁·diag(u₁) − P_u₀·diag(u₀))·δ, and a remaining accelerometer bias β
+/// turns it by P_u·β/|f|, which adds (C·P_u₁/|f₁| − P_u₀/|f₀|)·β. One linear
+/// observation of the nine errors per pair of rests (two components; the
+/// rotation about gravity and a common accelerometer scale are not seen).
+/// The estimate x = (σ, δ, β) is the regularised least-squares solution of all
+/// of them, (Σ HᵀH + Λ)·x = Σ Hᵀ(y + H·x_used), with Λ = diag((r/σ₀)²) from the
+/// priors σ₀ and the noise r of one observation, averaged over the models in
+/// which each group is present or absent ([`model_average`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ScaleLearner {
     seg: Quaternion<f64>,
@@ -336,13 +358,19 @@ struct ScaleLearner {
     active: bool,
     was_rest: bool,
     seg_time: f64,
-    a: nalgebra::Matrix6<f64>,
-    g: nalgebra::Vector6<f64>,
+    a: M9,
+    g: V9,
     /// Gyro scale errors applied: the rate used is (ω_meas − b)·(1 − s).
     s: Vec3,
-    /// Accelerometer scale errors applied: the specific force used is f_meas·(1 − d).
+    /// Accelerometer scale errors and bias applied: the specific force used
+    /// is f_meas·(1 − d) − b, m/s².
     d: Vec3,
+    b: Vec3,
 }
+
+/// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
+type M9 = nalgebra::SMatrix<f64, 9, 9>;
+type V9 = nalgebra::SVector<f64, 9>;
 
 /// Rest after which the bias counts as learnt and the tight rest threshold
 /// applies, s: the mean of 0.5 s of still MPU6050 gyro (0.005 °/s/√Hz) is
@@ -367,45 +395,77 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// VQF, worst 1.22×).
 const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 
-/// Probability that the sensors have scale errors at all, given the rest
-/// pairs seen (prior 1/2), against the hypothesis that they are calibrated
-/// (x = 0).
+/// The learner's estimate averaged over which of its three groups of
+/// errors the sensors have at all (gyro scale, accelerometer scale,
+/// accelerometer bias; each present with prior probability 1/2,
+/// independently), given the rest pairs seen; and each group's probability.
 ///
-/// The marginal likelihoods of the two hypotheses for the linear model
-/// y = H·x + e, e ~ N(0, r²I), x ~ N(0, r²Λ⁻¹) under the first (Λ diagonal,
-/// λᵢ = (r/σ₀ᵢ)²): their ratio is det(I + Λ⁻¹A)^(−1/2) · exp(gᵀ(A + Λ)⁻¹g / 2r²),
-/// A = ΣHᵀH, g = ΣHᵀy. The estimate applied is this probability times the
-/// posterior mean `x_post` (the mean under the mixture of the two priors):
-/// calibrated sensors, whose rest pairs show nothing beyond their noise, keep
-/// scales near zero however many pairs are seen, while an error of ≥ 1 % is
-/// taken at full weight once a few turns have shown it consistently.
-fn scale_error_probability(
-    a: &nalgebra::Matrix6<f64>,
-    g: &nalgebra::Vector6<f64>,
-    x_post: &nalgebra::Vector6<f64>,
-    r2: f64,
-    lam: &nalgebra::Vector6<f64>,
-) -> f64 {
-    let mut m = *a;
-    for i in 0..6 {
-        for j in 0..6 {
-            m[(i, j)] /= lam[i];
+/// For the linear model y = H·x + e, e ~ N(0, r²I), with the groups of a
+/// model m drawn from x ~ N(0, r²Λ⁻¹) (Λ diagonal, λᵢ = (r/σ₀ᵢ)²) and the
+/// others zero, the marginal likelihood against the model with no errors is
+/// det(I + Λ⁻¹A)^(−1/2) · exp(gᵀ(A + Λ)⁻¹g / 2r²), A = ΣHᵀH and g = ΣHᵀy
+/// restricted to m's groups. The estimate is the mean of the posterior mixture,
+/// Σₘ P(m | y)·x_m. Groups that are switched off (`on[k]` false) are in no
+/// model. A sensor whose rest pairs show nothing beyond their noise keeps its
+/// estimates near zero however many pairs are seen, while an error of ≥ 1 %
+/// (or a few mg) is taken at full weight once a few turns have shown it
+/// consistently; and one group's evidence is not diluted by the Occam factor
+/// of another group that is absent (a calibrated gyro's three dimensions
+/// would otherwise hide a biased accelerometer).
+fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9, [f64; 3])> {
+    let mut ln_bf = [f64::NEG_INFINITY; 8];
+    let mut xs = [V9::zeros(); 8];
+    for (m, (lb, xm)) in ln_bf.iter_mut().zip(xs.iter_mut()).enumerate() {
+        if (0..3).any(|k| m & (1 << k) != 0 && !on[k]) {
+            continue;
         }
-        m[(i, i)] += 1.0;
+        if m == 0 {
+            *lb = 0.0;
+            continue;
+        }
+        let inside = |i: usize| m & (1 << (i / 3)) != 0;
+        let mut reg = M9::identity();
+        let mut gm = V9::zeros();
+        let mut ln_det_lam = 0.0;
+        for i in 0..9 {
+            if !inside(i) {
+                continue;
+            }
+            gm[i] = g[i];
+            ln_det_lam += ln(lam[i]);
+            for j in 0..9 {
+                if inside(j) {
+                    reg[(i, j)] = a[(i, j)];
+                }
+            }
+            reg[(i, i)] += lam[i];
+        }
+        let ch = reg.cholesky()?;
+        let x = ch.solve(&gm);
+        let l = ch.l_dirty();
+        let ln_det: f64 = (0..9).map(|i| 2.0 * ln(l[(i, i)])).sum();
+        // det(I + Λ⁻¹A) = det(A + Λ)/det Λ ≥ 1 for A positive semi-definite
+        *lb = 0.5 * gm.dot(&x) / r2 - 0.5 * (ln_det - ln_det_lam);
+        *xm = x;
     }
-    let det = m.determinant();
-    // det ≥ 1 for A positive semi-definite (to rounding)
-    if !(det.is_finite() && det > 0.0) {
-        return 0.0;
+    let top = ln_bf.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return None;
     }
-    let ln_bf = 0.5 * g.dot(x_post) / r2 - 0.5 * ln(det);
-    // 1 / (1 + e^(−ln BF)), without overflow either way
-    if ln_bf >= 0.0 {
-        1.0 / (1.0 + exp(-ln_bf))
-    } else {
-        let e = exp(ln_bf);
-        e / (1.0 + e)
+    let w = ln_bf.map(|l| exp(l - top));
+    let total: f64 = w.iter().sum();
+    let mut x = V9::zeros();
+    let mut p = [0.0; 3];
+    for m in 0..8 {
+        let wm = w[m] / total;
+        x += xs[m] * wm;
+        for (k, pk) in p.iter_mut().enumerate() {
+            if m & (1 << k) != 0 {
+                *pk += wm;
+            }
+        }
     }
+    x.iter().all(|v| v.is_finite()).then_some((x, p))
 }
 
 impl ScaleLearner {
@@ -418,10 +478,11 @@ impl ScaleLearner {
             active: false,
             was_rest: false,
             seg_time: 0.0,
-            a: nalgebra::Matrix6::zeros(),
-            g: nalgebra::Vector6::zeros(),
+            a: M9::zeros(),
+            g: V9::zeros(),
             s: Vec3::zeros(),
             d: Vec3::zeros(),
+            b: Vec3::zeros(),
         }
     }
 }
@@ -794,6 +855,15 @@ impl Dynamic {
         self.gsl.d
     }
 
+    /// The accelerometer bias learnt from rest to rest, m/s² per body axis
+    /// (the specific force used is f_meas·(1 − d) − b). Zero until rest pairs
+    /// in different poses have shown it, when
+    /// [`DynamicParams::accel_bias_sigma`] is 0, and while the pipeline
+    /// estimates the bias itself.
+    pub fn accel_bias(&self) -> Vec3 {
+        self.gsl.b
+    }
+
     /// True while the filter considers the mount at rest.
     pub fn at_rest(&self) -> bool {
         self.rest
@@ -854,8 +924,9 @@ impl AttitudeFilter for Dynamic {
     }
 
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
-        // the accelerometer's learnt scale errors (zero until rest pairs show them)
-        let acc = acc.component_mul(&(Vec3::repeat(1.0) - self.gsl.d));
+        // the accelerometer's learnt scale errors and bias (zero until rest
+        // pairs show them)
+        let acc = acc.component_mul(&(Vec3::repeat(1.0) - self.gsl.d)) - self.gsl.b;
         match admit(&gyr, &acc, dt, self.initialised) {
             Admit::Run => {}
             Admit::Init(q) => {
@@ -961,7 +1032,15 @@ impl AttitudeFilter for Dynamic {
                 self.rested_once = true;
             }
         }
-        if (p.gyro_scale_sigma > 0.0 || p.accel_scale_sigma > 0.0) && p.learn_bias {
+        // the accelerometer bias is the pipeline's when it estimates it
+        let bias_sigma = if self.sens.is_none() {
+            p.accel_bias_sigma
+        } else {
+            0.0
+        };
+        if (p.gyro_scale_sigma > 0.0 || p.accel_scale_sigma > 0.0 || bias_sigma > 0.0)
+            && p.learn_bias
+        {
             let l = &mut self.gsl;
             if self.rest {
                 let n = self.acc_mean.norm();
@@ -978,9 +1057,9 @@ impl AttitudeFilter for Dynamic {
                         let c = rot.to_rotation_matrix();
                         let y = c * u_now - l.u0;
                         if y.norm() < SCALE_MISS_MAX_RAD {
-                            let mut h = nalgebra::Matrix3x6::zeros();
+                            let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
                             let r = SCALE_OBS_NOISE_RAD;
-                            let mut lam = nalgebra::Vector6::repeat(1.0);
+                            let mut lam = V9::repeat(1.0);
                             if p.gyro_scale_sigma > 0.0 {
                                 let hg = -l.u0.cross_matrix() * l.j;
                                 h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
@@ -997,37 +1076,49 @@ impl AttitudeFilter for Dynamic {
                                 let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
                                 lam.fixed_rows_mut::<3>(3).fill(la);
                             }
-                            let mut used = nalgebra::Vector6::zeros();
+                            let (n0, n1) = (l.f0.norm(), f_now.norm());
+                            if bias_sigma > 0.0 && n0 > 0.0 {
+                                let pr =
+                                    |u: &Vec3| nalgebra::Matrix3::identity() - u * u.transpose();
+                                let hb = c.matrix() * pr(&u_now) / n1 - pr(&l.u0) / n0;
+                                h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
+                                let lb = (r / bias_sigma) * (r / bias_sigma);
+                                lam.fixed_rows_mut::<3>(6).fill(lb);
+                            }
+                            let mut used = V9::zeros();
                             used.fixed_rows_mut::<3>(0).copy_from(&l.s);
                             used.fixed_rows_mut::<3>(3).copy_from(&l.d);
+                            used.fixed_rows_mut::<3>(6).copy_from(&l.b);
                             let y1 = y + h * used;
                             l.a += h.transpose() * h;
                             l.g += h.transpose() * y1;
-                            let reg = l.a + nalgebra::Matrix6::from_diagonal(&lam);
-                            if let Some(inv) = reg.try_inverse() {
-                                let x_post = inv * l.g;
-                                let p1 = scale_error_probability(&l.a, &l.g, &x_post, r * r, &lam);
-                                let x_new = x_post * p1;
-                                if x_new.iter().all(|v| v.is_finite()) {
-                                    // at most 3σ, and never near a sign change of 1 − s
-                                    let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
-                                    let ma = (3.0 * p.accel_scale_sigma).min(0.5);
-                                    let d_old = l.d;
-                                    l.s = Vec3::new(x_new[0], x_new[1], x_new[2])
-                                        .map(|v| v.clamp(-mg, mg));
-                                    l.d = Vec3::new(x_new[3], x_new[4], x_new[5])
-                                        .map(|v| v.clamp(-ma, ma));
-                                    // this rest's direction as the new scale reads it
-                                    let one = Vec3::repeat(1.0);
-                                    let f = self
-                                        .acc_mean
-                                        .component_mul(&(one - l.d))
-                                        .component_div(&(one - d_old));
-                                    let nf = f.norm();
-                                    if nf > 0.0 {
-                                        u_now = f / nf;
-                                        f_now = f;
-                                    }
+                            let on = [
+                                p.gyro_scale_sigma > 0.0,
+                                p.accel_scale_sigma > 0.0,
+                                bias_sigma > 0.0 && n0 > 0.0,
+                            ];
+                            if let Some((x_new, _)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                                // at most 3σ, and never near a sign change of 1 − s
+                                let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
+                                let ma = (3.0 * p.accel_scale_sigma).min(0.5);
+                                let mb = 3.0 * bias_sigma;
+                                let (d_old, b_old) = (l.d, l.b);
+                                l.s = Vec3::new(x_new[0], x_new[1], x_new[2])
+                                    .map(|v| v.clamp(-mg, mg));
+                                l.d = Vec3::new(x_new[3], x_new[4], x_new[5])
+                                    .map(|v| v.clamp(-ma, ma));
+                                l.b = Vec3::new(x_new[6], x_new[7], x_new[8])
+                                    .map(|v| v.clamp(-mb, mb));
+                                // this rest's direction as the new scale and bias read it
+                                let one = Vec3::repeat(1.0);
+                                let f = (self.acc_mean + b_old)
+                                    .component_mul(&(one - l.d))
+                                    .component_div(&(one - d_old))
+                                    - l.b;
+                                let nf = f.norm();
+                                if nf > 0.0 {
+                                    u_now = f / nf;
+                                    f_now = f;
                                 }
                             }
                         }
@@ -1517,40 +1608,56 @@ mod tests {
     }
 
     #[test]
-    fn scale_evidence_is_the_ratio_of_the_two_gaussian_likelihoods() {
-        // One observation y = x + e with H = I (six components, gyro priors
-        // 3 %, accelerometer priors 1 %): under "scale errors" each yᵢ ~
-        // N(0, r² + σ₀ᵢ²), under "calibrated" yᵢ ~ N(0, r²). The probability
-        // (prior 1/2) from the two densities written out directly.
-        type V6 = nalgebra::Vector6<f64>;
+    fn learner_evidence_is_the_ratio_of_the_gaussian_likelihoods_per_group() {
+        // One observation y = x + e with H = I (gyro scale priors 3 %,
+        // accelerometer scale 1 %, bias 0.05): the groups are then
+        // independent, so the mixture over the eight models factorises. Each
+        // group k is present with probability L1/(L1 + L0), L1 and L0 its
+        // three yᵢ's densities under N(0, r² + σ₀ᵢ²) and N(0, r²) written out
+        // directly, and each xᵢ is that probability times yᵢ·σ₀ᵢ²/(r² + σ₀ᵢ²).
         let r = 0.03;
-        let s0 = V6::new(0.03, 0.03, 0.03, 0.01, 0.01, 0.01);
+        let s0 = V9::from_column_slice(&[0.03, 0.03, 0.03, 0.01, 0.01, 0.01, 0.05, 0.05, 0.05]);
         let lam = s0.map(|s| (r / s) * (r / s));
+        let dens = |y: &V9, k: usize, var: &dyn Fn(usize) -> f64| {
+            (3 * k..3 * k + 3)
+                .map(|i| {
+                    (-(y[i] * y[i]) / (2.0 * var(i))).exp()
+                        / (2.0 * core::f64::consts::PI * var(i)).sqrt()
+                })
+                .product::<f64>()
+        };
         for y in [
-            V6::new(0.001, -0.002, 0.0, 0.001, 0.0, -0.001),
-            V6::new(0.03, 0.01, -0.02, 0.01, -0.005, 0.0),
-            V6::new(0.1, -0.05, 0.08, 0.02, 0.03, -0.01),
+            [0.001, -0.002, 0.0, 0.001, 0.0, -0.001, 0.002, 0.0, -0.001],
+            [0.03, 0.01, -0.02, 0.01, -0.005, 0.0, 0.0, 0.02, -0.03],
+            [0.1, -0.05, 0.08, 0.002, 0.003, -0.001, 0.06, -0.04, 0.02],
+            [0.001, 0.002, -0.001, 0.0, 0.001, 0.0, 0.09, -0.07, 0.05],
         ] {
-            let a = nalgebra::Matrix6::identity();
-            let x_post = y.component_div(&lam.map(|l| 1.0 + l));
-            let p = scale_error_probability(&a, &y, &x_post, r * r, &lam);
-            let dens = |v: &V6| {
-                (0..6)
-                    .map(|i| {
-                        (-(y[i] * y[i]) / (2.0 * v[i])).exp()
-                            / (2.0 * core::f64::consts::PI * v[i]).sqrt()
-                    })
-                    .product::<f64>()
-            };
-            let l1 = dens(&s0.map(|s| r * r + s * s));
-            let l0 = dens(&V6::repeat(r * r));
-            let expected = l1 / (l1 + l0);
-            assert!((p - expected).abs() < 1e-12, "{p} against {expected}");
+            let y = V9::from_column_slice(&y);
+            let (x, p) = model_average(&M9::identity(), &y, r * r, &lam, [true; 3]).unwrap();
+            for (k, got) in p.iter().enumerate() {
+                let l1 = dens(&y, k, &|i| r * r + s0[i] * s0[i]);
+                let l0 = dens(&y, k, &|_| r * r);
+                let pk = l1 / (l1 + l0);
+                assert!((got - pk).abs() < 1e-12, "group {k}: {got} against {pk}");
+                for i in 3 * k..3 * k + 3 {
+                    let xi = pk * y[i] * s0[i] * s0[i] / (r * r + s0[i] * s0[i]);
+                    assert!((x[i] - xi).abs() < 1e-12, "x[{i}] {} against {xi}", x[i]);
+                }
+            }
         }
-        // no information: the prior
-        let z = nalgebra::Matrix6::zeros();
-        let p = scale_error_probability(&z, &V6::zeros(), &V6::zeros(), r * r, &lam);
-        assert!((p - 0.5).abs() < 1e-12);
+        // a bias clearly shown, no scale error: the bias at full weight,
+        // whatever the other groups' Occam factors (many pairs: A = 50·I)
+        let y = V9::from_column_slice(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.5, -3.5, 2.0]);
+        let (x, p) = model_average(&(M9::identity() * 50.0), &y, r * r, &lam, [true; 3]).unwrap();
+        assert!(p[2] > 0.999 && p[0] < 0.1 && p[1] < 0.1, "{p:?}");
+        assert!((x[6] - 2.5 / (50.0 + lam[6])).abs() < 1e-6 && x.fixed_rows::<6>(0).norm() < 1e-12);
+        // no information: the prior, and nothing estimated
+        let (x, p) = model_average(&M9::zeros(), &V9::zeros(), r * r, &lam, [true; 3]).unwrap();
+        assert!(p.iter().all(|pk| (pk - 0.5).abs() < 1e-12) && x.norm() == 0.0);
+        // a group switched off is in no model
+        let y = V9::repeat(0.05);
+        let (x, p) = model_average(&M9::identity(), &y, r * r, &lam, [true, true, false]).unwrap();
+        assert!(p[2] == 0.0 && x.fixed_rows::<3>(6).norm() == 0.0 && p[0] > 0.5);
     }
 
     /// Seconds from the end of a 1-rad/s turn (5 s of rest first, 100 Hz)

@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 23] = [
+const DYNAMIC_PARAMS: [ParamInfo; 24] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -340,6 +340,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 23] = [
         "1",
         num(0.0, 1.0, false),
         "prior 1σ of the accelerometer scale errors learnt from rest to rest (0: off)",
+    ),
+    p(
+        "accel_bias_sigma",
+        "m/s²",
+        num(0.0, 10.0, false),
+        "prior 1σ of the accelerometer bias learnt from rest to rest (0: off)",
     ),
     p(
         "gravity_m_s2",
@@ -558,6 +564,7 @@ impl FilterSpec {
                     "alignment_s" => &mut d.alignment_s,
                     "gyro_scale_sigma" => &mut d.gyro_scale_sigma,
                     "accel_scale_sigma" => &mut d.accel_scale_sigma,
+                    "accel_bias_sigma" => &mut d.accel_bias_sigma,
                     "gravity_m_s2" => &mut d.gravity_m_s2,
                     _ => return Err(ParamError::UnknownKey),
                 };
@@ -610,6 +617,7 @@ impl FilterSpec {
                 "alignment_s" => n(d.alignment_s),
                 "gyro_scale_sigma" => n(d.gyro_scale_sigma),
                 "accel_scale_sigma" => n(d.accel_scale_sigma),
+                "accel_bias_sigma" => n(d.accel_bias_sigma),
                 "gravity_m_s2" => n(d.gravity_m_s2),
                 _ => return None,
             },
@@ -671,6 +679,7 @@ impl FilterSpec {
                     ("alignment_s", d.alignment_s),
                     ("gyro_scale_sigma", d.gyro_scale_sigma),
                     ("accel_scale_sigma", d.accel_scale_sigma),
+                    ("accel_bias_sigma", d.accel_bias_sigma),
                     ("gravity_m_s2", d.gravity_m_s2),
                 ];
                 for (k, x) in all {
