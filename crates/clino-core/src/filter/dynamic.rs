@@ -366,6 +366,9 @@ struct ScaleLearner {
     /// is f_meas·(1 − d) − b, m/s².
     d: Vec3,
     b: Vec3,
+    /// Probability that each group (gyro scale, accelerometer scale,
+    /// accelerometer bias) is present, from the last update ([`model_average`]).
+    p: [f64; 3],
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -483,6 +486,7 @@ impl ScaleLearner {
             s: Vec3::zeros(),
             d: Vec3::zeros(),
             b: Vec3::zeros(),
+            p: [0.5; 3],
         }
     }
 }
@@ -864,6 +868,29 @@ impl Dynamic {
         self.gsl.b
     }
 
+    /// The probability, given the rest pairs seen so far, that the gyro has
+    /// scale errors, that the accelerometer has, and that it has a bias (prior
+    /// 1/2 each; 0 for a group whose learning is off or, for the bias, owned by
+    /// the pipeline). The learnt values are the posterior means, which these
+    /// probabilities already weight.
+    pub fn sensor_error_probabilities(&self) -> [f64; 3] {
+        self.gsl.p
+    }
+
+    /// Impose the sensors' scale-factor errors and the accelerometer bias
+    /// ([`Dynamic::gyro_scale`], [`Dynamic::accel_scale`],
+    /// [`Dynamic::accel_bias`]), e.g. what another run over the same
+    /// recording learnt. Non-finite values are ignored. Rest pairs refine them
+    /// only if the learning is on (it needs `learn_bias`).
+    pub fn set_sensor_errors(&mut self, gyro_scale: Vec3, accel_scale: Vec3, accel_bias: Vec3) {
+        if finite3(&gyro_scale) && finite3(&accel_scale) && finite3(&accel_bias) {
+            let l = &mut self.gsl;
+            l.s = gyro_scale.map(|v| v.clamp(-0.5, 0.5));
+            l.d = accel_scale.map(|v| v.clamp(-0.5, 0.5));
+            l.b = accel_bias;
+        }
+    }
+
     /// True while the filter considers the mount at rest.
     pub fn at_rest(&self) -> bool {
         self.rest
@@ -1097,7 +1124,8 @@ impl AttitudeFilter for Dynamic {
                                 p.accel_scale_sigma > 0.0,
                                 bias_sigma > 0.0 && n0 > 0.0,
                             ];
-                            if let Some((x_new, _)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                            if let Some((x_new, pg)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                                l.p = pg;
                                 // at most 3σ, and never near a sign change of 1 − s
                                 let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
                                 let ma = (3.0 * p.accel_scale_sigma).min(0.5);
