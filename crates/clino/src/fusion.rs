@@ -585,6 +585,41 @@ pub struct FuseReport {
     /// The online accelerometer-bias and lever-arm estimates at the end of
     /// a real-time run, when the configuration makes them.
     pub mount: Option<MountReport>,
+    /// What the dynamic filter learnt from rest to rest (real-time runs of
+    /// `dynamic` only).
+    pub sensor_errors: Option<SensorErrorReport>,
+}
+
+/// The sensor errors the dynamic filter learnt from rest to rest
+/// ([`clino_core::filter::Dynamic::gyro_scale`] and its siblings).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct SensorErrorReport {
+    /// Rest pairs they were learnt from.
+    pub rest_pairs: u32,
+    /// Gyro scale-factor errors (fraction per body axis).
+    pub gyro_scale: [f64; 3],
+    /// Accelerometer scale-factor errors (fraction per body axis).
+    pub accel_scale: [f64; 3],
+    /// Accelerometer bias, m/s² (body frame).
+    pub accel_bias_m_s2: [f64; 3],
+    /// Probability that each is present at all: gyro scale, accelerometer
+    /// scale, accelerometer bias (prior 1/2; the values above are already
+    /// weighted by it).
+    pub probability: [f64; 3],
+}
+
+impl SensorErrorReport {
+    /// The report of a dynamic filter's current state.
+    pub fn of(d: &clino_core::filter::Dynamic) -> Self {
+        let a = |v: Vec3| [v.x, v.y, v.z];
+        Self {
+            rest_pairs: d.rest_pairs(),
+            gyro_scale: a(d.gyro_scale()),
+            accel_scale: a(d.accel_scale()),
+            accel_bias_m_s2: a(d.accel_bias()),
+            probability: d.sensor_error_probabilities(),
+        }
+    }
 }
 
 /// Final estimates of [`clino_core::compensate::MountEstimator`] with their 1σ.
@@ -817,6 +852,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     report.mount = pipeline.mount_estimator().map(MountReport::of);
+    report.sensor_errors = pipeline.filter().as_dynamic().map(SensorErrorReport::of);
     Ok(report)
 }
 
@@ -961,6 +997,32 @@ mod tests {
             },
         )?;
         Ok((rep, String::from_utf8(out).unwrap()))
+    }
+
+    #[test]
+    fn the_learnt_sensor_errors_are_reported() {
+        // hand motion between 3-s rests, gyro +2 % on x: the report carries what
+        // the filter learnt, with its rest pairs and probability; other filters
+        // have none
+        use crate::sim::hand::{HandMotion, HandParams};
+        let hand = HandMotion::new(HandParams::by_hand(), 2);
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
+        model.gyro.scale = Vec3::new(0.02, 0.0, 0.0);
+        let mut text = String::from(HEAD);
+        for x in model.simulate(&hand, 100.0, 120.0, 2) {
+            let (g, a) = (x.gyr_rad_s, x.acc_m_s2);
+            text.push_str(&format!(
+                "{},{},{},{},{},{},{}\n",
+                x.t_s, g.x, g.y, g.z, a.x, a.y, a.z
+            ));
+        }
+        let (rep, _) = run(&text, FilterKind::Dynamic, false).unwrap();
+        let e = rep.sensor_errors.unwrap();
+        assert!(e.rest_pairs >= 5, "{e:?}");
+        assert!((e.gyro_scale[0] - 0.02).abs() < 0.005, "{e:?}");
+        assert!(e.probability[0] > 0.9, "{e:?}");
+        let (rep, _) = run(&text, FilterKind::Mahony, false).unwrap();
+        assert!(rep.sensor_errors.is_none());
     }
 
     #[test]

@@ -94,6 +94,33 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
     s
 }
 
+/// What the dynamic filter learnt from rest to rest, on stderr.
+fn sensor_error_summary(e: &clino::fusion::SensorErrorReport) -> String {
+    let mg = 1e3 / clino::core::G0;
+    let (s, d, b, p) = (
+        e.gyro_scale,
+        e.accel_scale,
+        e.accel_bias_m_s2,
+        e.probability,
+    );
+    format!(
+        "clino fuse: learnt from {} rest pairs: gyro scale ({:+.2}, {:+.2}, {:+.2}) % (probability {:.2}), accelerometer scale ({:+.2}, {:+.2}, {:+.2}) % ({:.2}), accelerometer bias ({:+.2}, {:+.2}, {:+.2}) mg ({:.2})",
+        e.rest_pairs,
+        s[0] * 100.0,
+        s[1] * 100.0,
+        s[2] * 100.0,
+        p[0],
+        d[0] * 100.0,
+        d[1] * 100.0,
+        d[2] * 100.0,
+        p[1],
+        b[0] * mg,
+        b[1] * mg,
+        b[2] * mg,
+        p[2]
+    )
+}
+
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
     format!(
@@ -158,6 +185,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     if let Some(m) = &rep.mount {
         eprintln!("{}", mount_summary(m, config.lever_auto));
+    }
+    if let Some(e) = &rep.sensor_errors
+        && e.rest_pairs > 0
+    {
+        eprintln!("{}", sensor_error_summary(e));
     }
     eprintln!("{}", summary(&rep, &config.label()));
     Ok(())

@@ -369,6 +369,8 @@ struct ScaleLearner {
     /// Probability that each group (gyro scale, accelerometer scale,
     /// accelerometer bias) is present, from the last update ([`model_average`]).
     p: [f64; 3],
+    /// Rest pairs used.
+    pairs: u32,
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -487,6 +489,7 @@ impl ScaleLearner {
             d: Vec3::zeros(),
             b: Vec3::zeros(),
             p: [0.5; 3],
+            pairs: 0,
         }
     }
 }
@@ -877,6 +880,12 @@ impl Dynamic {
         self.gsl.p
     }
 
+    /// The number of rest pairs (two rests with a motion between) the
+    /// sensor errors were learnt from.
+    pub fn rest_pairs(&self) -> u32 {
+        self.gsl.pairs
+    }
+
     /// Impose the sensors' scale-factor errors and the accelerometer bias
     /// ([`Dynamic::gyro_scale`], [`Dynamic::accel_scale`],
     /// [`Dynamic::accel_bias`]), e.g. what another run over the same
@@ -1126,6 +1135,7 @@ impl AttitudeFilter for Dynamic {
                             ];
                             if let Some((x_new, pg)) = model_average(&l.a, &l.g, r * r, &lam, on) {
                                 l.p = pg;
+                                l.pairs = l.pairs.saturating_add(1);
                                 // at most 3σ, and never near a sign change of 1 − s
                                 let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
                                 let ma = (3.0 * p.accel_scale_sigma).min(0.5);
