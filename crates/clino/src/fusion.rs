@@ -602,6 +602,12 @@ pub struct SensorErrorReport {
     pub accel_scale: [f64; 3],
     /// Accelerometer bias, m/s² (body frame).
     pub accel_bias_m_s2: [f64; 3],
+    /// 1σ of each of the three above (same units).
+    pub gyro_scale_sigma: [f64; 3],
+    /// 1σ of the accelerometer scale errors.
+    pub accel_scale_sigma: [f64; 3],
+    /// 1σ of the accelerometer bias, m/s².
+    pub accel_bias_sigma_m_s2: [f64; 3],
     /// Probability that each is present at all: gyro scale, accelerometer
     /// scale, accelerometer bias (prior 1/2; the values above are already
     /// weighted by it).
@@ -612,7 +618,11 @@ impl SensorErrorReport {
     /// The report of a dynamic filter's current state.
     pub fn of(d: &clino_core::filter::Dynamic) -> Self {
         let a = |v: Vec3| [v.x, v.y, v.z];
+        let (ss, sd, sb) = d.sensor_error_sigmas();
         Self {
+            gyro_scale_sigma: a(ss),
+            accel_scale_sigma: a(sd),
+            accel_bias_sigma_m_s2: a(sb),
             rest_pairs: d.rest_pairs(),
             gyro_scale: a(d.gyro_scale()),
             accel_scale: a(d.accel_scale()),
@@ -1021,6 +1031,13 @@ mod tests {
         assert!(e.rest_pairs >= 5, "{e:?}");
         assert!((e.gyro_scale[0] - 0.02).abs() < 0.005, "{e:?}");
         assert!(e.probability[0] > 0.9, "{e:?}");
+        // the miss is within 3σ, and 1σ is below the prior's 3 % (here 1.2 %: the
+        // spread of the mixture, within each model and between the models)
+        let sd = e.gyro_scale_sigma[0];
+        assert!(
+            sd > 0.0 && sd < 0.02 && (e.gyro_scale[0] - 0.02).abs() < 3.0 * sd,
+            "{e:?}"
+        );
         let (rep, _) = run(&text, FilterKind::Mahony, false).unwrap();
         assert!(rep.sensor_errors.is_none());
     }

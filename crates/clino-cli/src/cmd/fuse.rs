@@ -97,26 +97,26 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
 /// What the dynamic filter learnt from rest to rest, on stderr.
 fn sensor_error_summary(e: &clino::fusion::SensorErrorReport) -> String {
     let mg = 1e3 / clino::core::G0;
-    let (s, d, b, p) = (
-        e.gyro_scale,
-        e.accel_scale,
-        e.accel_bias_m_s2,
-        e.probability,
-    );
+    let three = |v: [f64; 3], sd: [f64; 3], k: f64| {
+        format!(
+            "({:+.2}, {:+.2}, {:+.2}) ± ({:.2}, {:.2}, {:.2})",
+            v[0] * k,
+            v[1] * k,
+            v[2] * k,
+            sd[0] * k,
+            sd[1] * k,
+            sd[2] * k
+        )
+    };
+    let p = e.probability;
     format!(
-        "clino fuse: learnt from {} rest pairs: gyro scale ({:+.2}, {:+.2}, {:+.2}) % (probability {:.2}), accelerometer scale ({:+.2}, {:+.2}, {:+.2}) % ({:.2}), accelerometer bias ({:+.2}, {:+.2}, {:+.2}) mg ({:.2})",
+        "clino fuse: learnt from {} rest pairs (1σ; probability that the error is there at all): gyro scale {} % ({:.2}), accelerometer scale {} % ({:.2}), accelerometer bias {} mg ({:.2})",
         e.rest_pairs,
-        s[0] * 100.0,
-        s[1] * 100.0,
-        s[2] * 100.0,
+        three(e.gyro_scale, e.gyro_scale_sigma, 100.0),
         p[0],
-        d[0] * 100.0,
-        d[1] * 100.0,
-        d[2] * 100.0,
+        three(e.accel_scale, e.accel_scale_sigma, 100.0),
         p[1],
-        b[0] * mg,
-        b[1] * mg,
-        b[2] * mg,
+        three(e.accel_bias_m_s2, e.accel_bias_sigma_m_s2, mg),
         p[2]
     )
 }

@@ -371,6 +371,8 @@ struct ScaleLearner {
     p: [f64; 3],
     /// Rest pairs used.
     pairs: u32,
+    /// 1σ of (s, d, b) from the last update ([`model_average`]).
+    sd: V9,
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -416,11 +418,19 @@ const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 /// (or a few mg) is taken at full weight once a few turns have shown it
 /// consistently; and one group's evidence is not diluted by the Occam factor
 /// of another group that is absent (a calibrated gyro's three dimensions
-/// would otherwise hide a biased accelerometer).
-fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9, [f64; 3])> {
+/// would otherwise hide a biased accelerometer). The third value is the
+/// mixture's standard deviation of each component (the uncertainty of the
+/// estimate, the doubt about the model included).
+fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9, [f64; 3], V9)> {
     let mut ln_bf = [f64::NEG_INFINITY; 8];
     let mut xs = [V9::zeros(); 8];
-    for (m, (lb, xm)) in ln_bf.iter_mut().zip(xs.iter_mut()).enumerate() {
+    let mut vs = [V9::zeros(); 8];
+    for (m, ((lb, xm), vm)) in ln_bf
+        .iter_mut()
+        .zip(xs.iter_mut())
+        .zip(vs.iter_mut())
+        .enumerate()
+    {
         if (0..3).any(|k| m & (1 << k) != 0 && !on[k]) {
             continue;
         }
@@ -452,6 +462,11 @@ fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9
         // det(I + Λ⁻¹A) = det(A + Λ)/det Λ ≥ 1 for A positive semi-definite
         *lb = 0.5 * gm.dot(&x) / r2 - 0.5 * (ln_det - ln_det_lam);
         *xm = x;
+        // the posterior variances, r²·diag((A + Λ)⁻¹), of the model's groups
+        let inv = ch.inverse();
+        for i in (0..9).filter(|&i| inside(i)) {
+            vm[i] = r2 * inv[(i, i)];
+        }
     }
     let top = ln_bf.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
     if !top.is_finite() {
@@ -460,17 +475,21 @@ fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9
     let w = ln_bf.map(|l| exp(l - top));
     let total: f64 = w.iter().sum();
     let mut x = V9::zeros();
+    let mut second = V9::zeros();
     let mut p = [0.0; 3];
     for m in 0..8 {
         let wm = w[m] / total;
         x += xs[m] * wm;
+        second += (vs[m] + xs[m].component_mul(&xs[m])) * wm;
         for (k, pk) in p.iter_mut().enumerate() {
             if m & (1 << k) != 0 {
                 *pk += wm;
             }
         }
     }
-    x.iter().all(|v| v.is_finite()).then_some((x, p))
+    // the mixture's standard deviations: E[x²] − E[x]²
+    let sd = (second - x.component_mul(&x)).map(|v| sqrt(v.max(0.0)));
+    (x.iter().chain(sd.iter()).all(|v| v.is_finite())).then_some((x, p, sd))
 }
 
 impl ScaleLearner {
@@ -490,6 +509,7 @@ impl ScaleLearner {
             b: Vec3::zeros(),
             p: [0.5; 3],
             pairs: 0,
+            sd: V9::zeros(),
         }
     }
 }
@@ -880,6 +900,15 @@ impl Dynamic {
         self.gsl.p
     }
 
+    /// The 1σ of the learnt gyro scale, accelerometer scale and
+    /// accelerometer bias (m/s²), per body axis: the spread of the posterior
+    /// mixture, the doubt whether each error is there at all included. Zero
+    /// before the first rest pair and for a group whose learning is off.
+    pub fn sensor_error_sigmas(&self) -> (Vec3, Vec3, Vec3) {
+        let v = |k: usize| Vec3::new(self.gsl.sd[k], self.gsl.sd[k + 1], self.gsl.sd[k + 2]);
+        (v(0), v(3), v(6))
+    }
+
     /// The number of rest pairs (two rests with a motion between) the
     /// sensor errors were learnt from.
     pub fn rest_pairs(&self) -> u32 {
@@ -1133,8 +1162,11 @@ impl AttitudeFilter for Dynamic {
                                 p.accel_scale_sigma > 0.0,
                                 bias_sigma > 0.0 && n0 > 0.0,
                             ];
-                            if let Some((x_new, pg)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                            if let Some((x_new, pg, sd)) =
+                                model_average(&l.a, &l.g, r * r, &lam, on)
+                            {
                                 l.p = pg;
+                                l.sd = sd;
                                 l.pairs = l.pairs.saturating_add(1);
                                 // at most 3σ, and never near a sign change of 1 − s
                                 let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
@@ -1671,30 +1703,41 @@ mod tests {
             [0.001, 0.002, -0.001, 0.0, 0.001, 0.0, 0.09, -0.07, 0.05],
         ] {
             let y = V9::from_column_slice(&y);
-            let (x, p) = model_average(&M9::identity(), &y, r * r, &lam, [true; 3]).unwrap();
+            let (x, p, sd) = model_average(&M9::identity(), &y, r * r, &lam, [true; 3]).unwrap();
             for (k, got) in p.iter().enumerate() {
                 let l1 = dens(&y, k, &|i| r * r + s0[i] * s0[i]);
                 let l0 = dens(&y, k, &|_| r * r);
                 let pk = l1 / (l1 + l0);
                 assert!((got - pk).abs() < 1e-12, "group {k}: {got} against {pk}");
                 for i in 3 * k..3 * k + 3 {
-                    let xi = pk * y[i] * s0[i] * s0[i] / (r * r + s0[i] * s0[i]);
+                    let mu = y[i] * s0[i] * s0[i] / (r * r + s0[i] * s0[i]);
+                    let xi = pk * mu;
                     assert!((x[i] - xi).abs() < 1e-12, "x[{i}] {} against {xi}", x[i]);
+                    // a two-component mixture: p·(v + μ²) − (p·μ)², v = r²/(1 + λ)
+                    let v = r * r / (1.0 + lam[i]);
+                    let sdi = (pk * (v + mu * mu) - xi * xi).sqrt();
+                    assert!(
+                        (sd[i] - sdi).abs() < 1e-12,
+                        "sd[{i}] {} against {sdi}",
+                        sd[i]
+                    );
                 }
             }
         }
         // a bias clearly shown, no scale error: the bias at full weight,
         // whatever the other groups' Occam factors (many pairs: A = 50·I)
         let y = V9::from_column_slice(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.5, -3.5, 2.0]);
-        let (x, p) = model_average(&(M9::identity() * 50.0), &y, r * r, &lam, [true; 3]).unwrap();
+        let (x, p, _) =
+            model_average(&(M9::identity() * 50.0), &y, r * r, &lam, [true; 3]).unwrap();
         assert!(p[2] > 0.999 && p[0] < 0.1 && p[1] < 0.1, "{p:?}");
         assert!((x[6] - 2.5 / (50.0 + lam[6])).abs() < 1e-6 && x.fixed_rows::<6>(0).norm() < 1e-12);
         // no information: the prior, and nothing estimated
-        let (x, p) = model_average(&M9::zeros(), &V9::zeros(), r * r, &lam, [true; 3]).unwrap();
+        let (x, p, _) = model_average(&M9::zeros(), &V9::zeros(), r * r, &lam, [true; 3]).unwrap();
         assert!(p.iter().all(|pk| (pk - 0.5).abs() < 1e-12) && x.norm() == 0.0);
         // a group switched off is in no model
         let y = V9::repeat(0.05);
-        let (x, p) = model_average(&M9::identity(), &y, r * r, &lam, [true, true, false]).unwrap();
+        let (x, p, _) =
+            model_average(&M9::identity(), &y, r * r, &lam, [true, true, false]).unwrap();
         assert!(p[2] == 0.0 && x.fixed_rows::<3>(6).norm() == 0.0 && p[0] > 0.5);
     }
 
