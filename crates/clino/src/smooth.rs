@@ -23,8 +23,9 @@
 //!    (equal weights — their errors are alike and nearly independent); the
 //!    heading is the forward pass's;
 //! 6. a whole-record refinement uses the mount's bounded velocity and
-//!    position (from the specific force corrected as in 4): [`refine_bounded_motion`], a Kalman/Rauch–Tung–Striebel
-//!    smoother on the remaining tilt error (skip it for travelling mounts).
+//!    position (from the specific force corrected as in 4):
+//!    [`refine_bounded_motion`], a Kalman/Rauch–Tung–Striebel smoother on
+//!    the remaining tilt error (skip it for travelling mounts).
 //!
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
@@ -372,13 +373,13 @@ fn smooth_compensated(
     // something on real sensors (gyro cross-axis terms, unmodelled) is
     // taken for scale, and until that is modelled it acts only where it was
     // learnt, in the learning passes
-    let errs = fc
+    let acc_errs = fc
         .filter()
         .as_dynamic()
-        .map(|d| (Vec3::zeros(), d.accel_scale(), d.accel_bias()));
+        .map(|d| (d.accel_scale(), d.accel_bias()));
     let with_errs = |mut p: Pipeline| {
-        if let (Some((s, d, b)), Some(f)) = (errs, p.filter_mut().as_dynamic_mut()) {
-            f.set_sensor_errors(s, d, b);
+        if let (Some((d, b)), Some(f)) = (acc_errs, p.filter_mut().as_dynamic_mut()) {
+            f.set_sensor_errors(Vec3::zeros(), d, b);
         }
         p
     };
@@ -395,9 +396,15 @@ fn smooth_compensated(
     });
     drop((bs, t));
     if let Some(b) = &opts.refine {
-        let (d, bias) = errs.map_or((Vec3::zeros(), Vec3::zeros()), |e| (e.1, e.2));
-        let fix = (d != Vec3::zeros() || bias != Vec3::zeros()).then_some((d, bias));
-        refine_in_place(&mut q, acc, fix, dt, b, opts.params.gravity_m_s2, progress);
+        refine_in_place(
+            &mut q,
+            acc,
+            acc_errs,
+            dt,
+            b,
+            opts.params.gravity_m_s2,
+            progress,
+        );
     }
     q
 }
@@ -475,7 +482,7 @@ fn refine_in_place(
     // horizontal specific force in ENU; unusable samples contribute nothing
     let force = |q: &[Attitude], k: usize, axis: usize| {
         let a = match &fix {
-            Some((d, b)) => acc[k].component_mul(&(Vec3::repeat(1.0) - d)) - b,
+            Some((d, b)) => clino_core::filter::correct_specific_force(&acc[k], d, b),
             None => acc[k],
         };
         let f = q[k] * a;

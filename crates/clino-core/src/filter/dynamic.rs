@@ -402,6 +402,26 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// VQF, worst 1.22×).
 const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 
+/// The specific force as learnt accelerometer errors correct it,
+/// f·(1 − d) − b: `d` the scale-factor errors (fraction per body axis), `b`
+/// the bias (m/s²), as [`Dynamic::accel_scale`] and [`Dynamic::accel_bias`]
+/// report them.
+pub fn correct_specific_force(f: &Vec3, d: &Vec3, b: &Vec3) -> Vec3 {
+    f.component_mul(&(Vec3::repeat(1.0) - d)) - b
+}
+
+/// How a small accelerometer scale error δ turns the measured direction of a
+/// specific force along u: u_meas ≈ u + P_u·diag(u)·δ, P_u = I − u·uᵀ.
+fn direction_per_scale(u: &Vec3) -> nalgebra::Matrix3<f64> {
+    (nalgebra::Matrix3::identity() - u * u.transpose()) * nalgebra::Matrix3::from_diagonal(u)
+}
+
+/// How a small accelerometer bias β turns the measured direction of a
+/// specific force of magnitude `n` along u: u_meas ≈ u + P_u·β/n.
+fn direction_per_bias(u: &Vec3, n: f64) -> nalgebra::Matrix3<f64> {
+    (nalgebra::Matrix3::identity() - u * u.transpose()) / n
+}
+
 /// The learner's estimate averaged over which of its three groups of
 /// errors the sensors have at all (gyro scale, accelerometer scale,
 /// accelerometer bias; each present with prior probability 1/2,
@@ -991,7 +1011,7 @@ impl AttitudeFilter for Dynamic {
     fn update(&mut self, gyr: Vec3, acc: Vec3, dt: f64) -> Step {
         // the accelerometer's learnt scale errors and bias (zero until rest
         // pairs show them)
-        let acc = acc.component_mul(&(Vec3::repeat(1.0) - self.gsl.d)) - self.gsl.b;
+        let acc = correct_specific_force(&acc, &self.gsl.d, &self.gsl.b);
         match admit(&gyr, &acc, dt, self.initialised) {
             Admit::Run => {}
             Admit::Init(q) => {
@@ -1132,20 +1152,16 @@ impl AttitudeFilter for Dynamic {
                                 lam.fixed_rows_mut::<3>(0).fill(lg);
                             }
                             if p.accel_scale_sigma > 0.0 {
-                                let pd = |u: &Vec3| {
-                                    (nalgebra::Matrix3::identity() - u * u.transpose())
-                                        * nalgebra::Matrix3::from_diagonal(u)
-                                };
-                                let ha = c.matrix() * pd(&u_now) - pd(&l.u0);
+                                let ha = c.matrix() * direction_per_scale(&u_now)
+                                    - direction_per_scale(&l.u0);
                                 h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
                                 let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
                                 lam.fixed_rows_mut::<3>(3).fill(la);
                             }
                             let (n0, n1) = (l.f0.norm(), f_now.norm());
                             if bias_sigma > 0.0 && n0 > 0.0 {
-                                let pr =
-                                    |u: &Vec3| nalgebra::Matrix3::identity() - u * u.transpose();
-                                let hb = c.matrix() * pr(&u_now) / n1 - pr(&l.u0) / n0;
+                                let hb = c.matrix() * direction_per_bias(&u_now, n1)
+                                    - direction_per_bias(&l.u0, n0);
                                 h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
                                 let lb = (r / bias_sigma) * (r / bias_sigma);
                                 lam.fixed_rows_mut::<3>(6).fill(lb);
@@ -1180,6 +1196,8 @@ impl AttitudeFilter for Dynamic {
                                 l.b = Vec3::new(x_new[6], x_new[7], x_new[8])
                                     .map(|v| v.clamp(-mb, mb));
                                 // this rest's direction as the new scale and bias read it
+                                // (the inverse of correct_specific_force with d_old, b_old,
+                                // then it with the new d, b)
                                 let one = Vec3::repeat(1.0);
                                 let f = (self.acc_mean + b_old)
                                     .component_mul(&(one - l.d))
@@ -1675,6 +1693,38 @@ mod tests {
         let (rms, b_err) = vibrating_power_on(&mut Dynamic::default());
         assert!(rms < 0.06, "tilt RMS {rms}° over 3–12 s");
         assert!(b_err < 0.007, "bias error {b_err}°/s after the first rest");
+    }
+
+    #[test]
+    fn direction_sensitivities_match_finite_differences() {
+        // the learner's observation model: the direction of f·(1 + d) + b
+        // (what an accelerometer with scale errors d and bias b reads of a
+        // specific force f) against u + P_u·diag(u)·d + P_u·b/|f|, and the
+        // correction undoes the errors to first order
+        let f = Vector3::new(3.1, -4.7, 7.9);
+        let (n, u) = (f.norm(), f.normalize());
+        let h = 1e-6;
+        for k in 0..3 {
+            let mut e = Vector3::zeros();
+            e[k] = h;
+            let dir = |v: Vector3<f64>| v.normalize();
+            let by_scale =
+                (dir(f + f.component_mul(&e)) - dir(f - f.component_mul(&e))) / (2.0 * h);
+            let by_bias = (dir(f + e) - dir(f - e)) / (2.0 * h);
+            assert!((by_scale - direction_per_scale(&u).column(k)).norm() < 1e-8);
+            assert!((by_bias - direction_per_bias(&u, n).column(k)).norm() < 1e-8);
+        }
+        let (d, b) = (
+            Vector3::new(0.05, -0.05, 0.03),
+            Vector3::new(0.07, -0.1, 0.05),
+        );
+        let meas = f.component_mul(&(Vector3::repeat(1.0) + d)) + b;
+        let back = correct_specific_force(&meas, &d, &b);
+        // second order left: d² f and d·b, ≈ 0.02 m/s² here
+        assert!(
+            (back - f).norm() < 0.03 && (meas - f).norm() > 0.3,
+            "{back:?}"
+        );
     }
 
     #[test]

@@ -27,7 +27,7 @@ mod poisson;
 pub mod spec;
 
 pub use complementary::Complementary;
-pub use dynamic::{Dynamic, DynamicParams};
+pub use dynamic::{Dynamic, DynamicParams, correct_specific_force};
 pub use madgwick::Madgwick;
 pub use mahony::Mahony;
 pub use poisson::{Integrator, Poisson};
