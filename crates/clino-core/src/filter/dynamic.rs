@@ -93,6 +93,9 @@
 //!   of the three groups the sensor has at all, by the evidence of the rest
 //!   pairs ([`DynamicParams::gyro_scale_sigma`],
 //!   [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
+//!   A rest of a second, too short to be declared rest, still ends a pair:
+//!   the learner recognises stillness on its own 0.05-s low-pass
+//!   (`QUICK_TAU_S`) and uses it when it lasted 0.5 s.
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
 //!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
 //!   metres per second squared at tens of hertz without moving the mount.
@@ -373,6 +376,19 @@ struct ScaleLearner {
     pairs: u32,
     /// 1σ of (s, d, b) from the last update ([`model_average`]).
     sd: V9,
+    /// Rate and specific force low-passed at [`QUICK_TAU_S`].
+    qg: Vec3,
+    qa: Vec3,
+    /// The short rest so far: its duration (s), the low-passed specific force
+    /// at its start, the mean after [`QUICK_SETTLE_S`] and the time in it.
+    quick_time: f64,
+    quick_ref: Vec3,
+    quick_mean: Vec3,
+    quick_n: f64,
+    /// The segment (rotation, integral, duration) when the short rest began.
+    quick_start: (Quaternion<f64>, nalgebra::Matrix3<f64>, f64),
+    /// A rest has been used since the last motion: a short rest needs motion first.
+    quick_blocked: bool,
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -401,6 +417,25 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// took noise of the slow motion with vibration for scale (0.87× → 0.91–0.94×
 /// VQF, worst 1.22×).
 const SCALE_OBS_NOISE_RAD: f64 = 0.02;
+
+/// Time constant of the low-pass on which short rests are recognised for the
+/// learner, s. Rest detection proper waits for the `vibration_tau_s` and
+/// `rest_lowpass_tau_s` low-passes to settle, 1–1.5 s after a fast motion
+/// stops, so a rest of a second or two is never declared and teaches
+/// nothing. A rest pair needs only the mean specific force of a stillness:
+/// 0.05 s (a 3-Hz corner) keeps the noise of the low-passed rate at 0.01°/s
+/// for an MPU6050 (0.005°/s/√Hz over 1/(4τ) = 5 Hz) and the specific force
+/// at 1 mg, far under the rest thresholds, and settles in 0.15 s. Vibration
+/// that the low-pass does not remove keeps the thresholds from holding:
+/// no short rest, and the learner waits for a rest proper.
+const QUICK_TAU_S: f64 = 0.05;
+/// The part of a short rest left out of its mean, s: 3·QUICK_TAU_S, the
+/// low-pass's transient from the motion before it (5 %).
+const QUICK_SETTLE_S: f64 = 0.15;
+/// Shortest short rest used, s: the rate stays under the rest threshold
+/// (0.5°/s) for 0.5 s, which the reversal of a moving mount (a hand's,
+/// through zero rate at 100°/s², for 10 ms) or a slow turn does not.
+const QUICK_MIN_S: f64 = 0.5;
 
 /// The specific force as learnt accelerometer errors correct it,
 /// f·(1 − d) − b: `d` the scale-factor errors (fraction per body axis), `b`
@@ -530,7 +565,117 @@ impl ScaleLearner {
             p: [0.5; 3],
             pairs: 0,
             sd: V9::zeros(),
+            qg: Vec3::zeros(),
+            qa: Vec3::zeros(),
+            quick_time: 0.0,
+            quick_ref: Vec3::zeros(),
+            quick_mean: Vec3::zeros(),
+            quick_n: 0.0,
+            quick_start: (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0),
+            quick_blocked: true,
         }
+    }
+    /// A rest pair: the motion since the last rest (the segment's rotation
+    /// `seg`, integral `j` and duration `seg_time`) ends at a rest whose mean
+    /// specific force is `f_mean` (as corrected now). When `observe` and the
+    /// pair is usable, one observation updates the errors; either way the
+    /// next segment starts at this rest, its direction read with the errors
+    /// as they now are. Not after a minute of motion (the gyro bias error's
+    /// own drift, 0.01°/s, would then weigh as much as the scale), nor when
+    /// the directions differ by more than 20° (a translation taken for rest;
+    /// the linearisation). `next` is the segment so far of the motion after
+    /// this rest (its rotation, integral and duration).
+    #[allow(clippy::too_many_arguments)]
+    fn observe(
+        &mut self,
+        p: &DynamicParams,
+        bias_sigma: f64,
+        observe: bool,
+        seg: Quaternion<f64>,
+        j: nalgebra::Matrix3<f64>,
+        seg_time: f64,
+        f_mean: Vec3,
+        next: (Quaternion<f64>, nalgebra::Matrix3<f64>, f64),
+    ) {
+        let n = f_mean.norm();
+        if n <= 0.0 || !n.is_finite() {
+            return;
+        }
+        let l = self;
+        let mut u_now = f_mean / n;
+        let mut f_now = f_mean;
+        if observe && l.active && seg_time < SCALE_SEGMENT_MAX_S {
+            let rot = nalgebra::UnitQuaternion::new_normalize(seg);
+            let c = rot.to_rotation_matrix();
+            let y = c * u_now - l.u0;
+            if y.norm() < SCALE_MISS_MAX_RAD {
+                let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
+                let r = SCALE_OBS_NOISE_RAD;
+                let mut lam = V9::repeat(1.0);
+                if p.gyro_scale_sigma > 0.0 {
+                    let hg = -l.u0.cross_matrix() * j;
+                    h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
+                    let lg = (r / p.gyro_scale_sigma) * (r / p.gyro_scale_sigma);
+                    lam.fixed_rows_mut::<3>(0).fill(lg);
+                }
+                if p.accel_scale_sigma > 0.0 {
+                    let ha = c.matrix() * direction_per_scale(&u_now) - direction_per_scale(&l.u0);
+                    h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
+                    let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
+                    lam.fixed_rows_mut::<3>(3).fill(la);
+                }
+                let (n0, n1) = (l.f0.norm(), f_now.norm());
+                if bias_sigma > 0.0 && n0 > 0.0 {
+                    let hb =
+                        c.matrix() * direction_per_bias(&u_now, n1) - direction_per_bias(&l.u0, n0);
+                    h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
+                    let lb = (r / bias_sigma) * (r / bias_sigma);
+                    lam.fixed_rows_mut::<3>(6).fill(lb);
+                }
+                let mut used = V9::zeros();
+                used.fixed_rows_mut::<3>(0).copy_from(&l.s);
+                used.fixed_rows_mut::<3>(3).copy_from(&l.d);
+                used.fixed_rows_mut::<3>(6).copy_from(&l.b);
+                let y1 = y + h * used;
+                l.a += h.transpose() * h;
+                l.g += h.transpose() * y1;
+                let on = [
+                    p.gyro_scale_sigma > 0.0,
+                    p.accel_scale_sigma > 0.0,
+                    bias_sigma > 0.0 && n0 > 0.0,
+                ];
+                if let Some((x_new, pg, sd)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                    l.p = pg;
+                    l.sd = sd;
+                    l.pairs = l.pairs.saturating_add(1);
+                    // at most 3σ, and never near a sign change of 1 − s
+                    let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
+                    let ma = (3.0 * p.accel_scale_sigma).min(0.5);
+                    let mb = 3.0 * bias_sigma;
+                    let (d_old, b_old) = (l.d, l.b);
+                    l.s = Vec3::new(x_new[0], x_new[1], x_new[2]).map(|v| v.clamp(-mg, mg));
+                    l.d = Vec3::new(x_new[3], x_new[4], x_new[5]).map(|v| v.clamp(-ma, ma));
+                    l.b = Vec3::new(x_new[6], x_new[7], x_new[8]).map(|v| v.clamp(-mb, mb));
+                    // this rest's direction as the new scale and bias read it
+                    // (the inverse of correct_specific_force with d_old, b_old,
+                    // then it with the new d, b)
+                    let one = Vec3::repeat(1.0);
+                    let f = (f_mean + b_old)
+                        .component_mul(&(one - l.d))
+                        .component_div(&(one - d_old))
+                        - l.b;
+                    let nf = f.norm();
+                    if nf > 0.0 {
+                        u_now = f / nf;
+                        f_now = f;
+                    }
+                }
+            }
+        }
+        (l.seg, l.j, l.seg_time) = next;
+        l.u0 = u_now;
+        l.f0 = f_now;
+        l.active = true;
     }
 }
 
@@ -645,6 +790,7 @@ struct Reciprocals {
     k_forget: f64,
     vibration_tau: f64,
     k_vib: f64,
+    k_quick: f64,
 }
 
 impl Reciprocals {
@@ -665,6 +811,7 @@ impl Reciprocals {
             k_forget: 0.0,
             vibration_tau: 1.0 / p.vibration_tau_s,
             k_vib: 0.0,
+            k_quick: 0.0,
         }
     }
 }
@@ -1058,6 +1205,7 @@ impl AttitudeFilter for Dynamic {
             self.inv.k_rest = one_minus_exp_neg(dt * self.inv.rest_lowpass_tau);
             self.inv.k_forget = one_minus_exp_neg(dt * self.inv.bias_memory);
             self.inv.k_vib = one_minus_exp_neg(dt * self.inv.vibration_tau);
+            self.inv.k_quick = one_minus_exp_neg(dt / QUICK_TAU_S);
         }
         // each low-pass starts as the running mean of the samples since
         // initialisation (weight 1/n) until its own time constant has passed:
@@ -1127,96 +1275,72 @@ impl AttitudeFilter for Dynamic {
             && p.learn_bias
         {
             let l = &mut self.gsl;
+            let k_quick = self.inv.k_quick.max(mean_k);
+            l.qg += (gyr - l.qg) * k_quick;
+            l.qa += (acc - l.qa) * k_quick;
             if self.rest {
-                let n = self.acc_mean.norm();
-                if n > 0.0 {
-                    let mut u_now = self.acc_mean / n;
-                    let mut f_now = self.acc_mean;
-                    // the first sample of a rest after a motion: one observation.
-                    // Not after a minute of motion (the bias error's own drift,
-                    // 0.01°/s, would then weigh as much as the scale), nor when
-                    // the directions differ by more than 20° (a translation
-                    // taken for rest; the linearisation)
-                    if !l.was_rest && l.active && l.seg_time < SCALE_SEGMENT_MAX_S {
-                        let rot = nalgebra::UnitQuaternion::new_normalize(l.seg);
-                        let c = rot.to_rotation_matrix();
-                        let y = c * u_now - l.u0;
-                        if y.norm() < SCALE_MISS_MAX_RAD {
-                            let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
-                            let r = SCALE_OBS_NOISE_RAD;
-                            let mut lam = V9::repeat(1.0);
-                            if p.gyro_scale_sigma > 0.0 {
-                                let hg = -l.u0.cross_matrix() * l.j;
-                                h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
-                                let lg = (r / p.gyro_scale_sigma) * (r / p.gyro_scale_sigma);
-                                lam.fixed_rows_mut::<3>(0).fill(lg);
-                            }
-                            if p.accel_scale_sigma > 0.0 {
-                                let ha = c.matrix() * direction_per_scale(&u_now)
-                                    - direction_per_scale(&l.u0);
-                                h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
-                                let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
-                                lam.fixed_rows_mut::<3>(3).fill(la);
-                            }
-                            let (n0, n1) = (l.f0.norm(), f_now.norm());
-                            if bias_sigma > 0.0 && n0 > 0.0 {
-                                let hb = c.matrix() * direction_per_bias(&u_now, n1)
-                                    - direction_per_bias(&l.u0, n0);
-                                h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
-                                let lb = (r / bias_sigma) * (r / bias_sigma);
-                                lam.fixed_rows_mut::<3>(6).fill(lb);
-                            }
-                            let mut used = V9::zeros();
-                            used.fixed_rows_mut::<3>(0).copy_from(&l.s);
-                            used.fixed_rows_mut::<3>(3).copy_from(&l.d);
-                            used.fixed_rows_mut::<3>(6).copy_from(&l.b);
-                            let y1 = y + h * used;
-                            l.a += h.transpose() * h;
-                            l.g += h.transpose() * y1;
-                            let on = [
-                                p.gyro_scale_sigma > 0.0,
-                                p.accel_scale_sigma > 0.0,
-                                bias_sigma > 0.0 && n0 > 0.0,
-                            ];
-                            if let Some((x_new, pg, sd)) =
-                                model_average(&l.a, &l.g, r * r, &lam, on)
-                            {
-                                l.p = pg;
-                                l.sd = sd;
-                                l.pairs = l.pairs.saturating_add(1);
-                                // at most 3σ, and never near a sign change of 1 − s
-                                let mg = (3.0 * p.gyro_scale_sigma).min(0.5);
-                                let ma = (3.0 * p.accel_scale_sigma).min(0.5);
-                                let mb = 3.0 * bias_sigma;
-                                let (d_old, b_old) = (l.d, l.b);
-                                l.s = Vec3::new(x_new[0], x_new[1], x_new[2])
-                                    .map(|v| v.clamp(-mg, mg));
-                                l.d = Vec3::new(x_new[3], x_new[4], x_new[5])
-                                    .map(|v| v.clamp(-ma, ma));
-                                l.b = Vec3::new(x_new[6], x_new[7], x_new[8])
-                                    .map(|v| v.clamp(-mb, mb));
-                                // this rest's direction as the new scale and bias read it
-                                // (the inverse of correct_specific_force with d_old, b_old,
-                                // then it with the new d, b)
-                                let one = Vec3::repeat(1.0);
-                                let f = (self.acc_mean + b_old)
-                                    .component_mul(&(one - l.d))
-                                    .component_div(&(one - d_old))
-                                    - l.b;
-                                let nf = f.norm();
-                                if nf > 0.0 {
-                                    u_now = f / nf;
-                                    f_now = f;
-                                }
-                            }
-                        }
+                // the first sample of a rest after a motion: one observation;
+                // then every rest sample restarts the segment
+                let (seg, j, seg_time) = (l.seg, l.j, l.seg_time);
+                let next = (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0);
+                l.observe(
+                    p,
+                    bias_sigma,
+                    !l.was_rest,
+                    seg,
+                    j,
+                    seg_time,
+                    self.acc_mean,
+                    next,
+                );
+                l.quick_time = 0.0;
+                l.quick_blocked = true;
+            } else if self.rested_once {
+                // a short rest, on the rate and specific force low-passed at
+                // QUICK_TAU_S only (see there): observed when it ends, from the
+                // segment up to its start and the mean specific force over it
+                // (the specific force against its value when the stillness began,
+                // then against the stillness's mean)
+                let reference = if l.quick_time == 0.0 {
+                    l.qa
+                } else if l.quick_n > 0.0 {
+                    l.quick_mean
+                } else {
+                    l.quick_ref
+                };
+                let quiet = (l.qg - self.bias).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
+                    && (l.qa - reference).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2;
+                if quiet && !l.quick_blocked {
+                    if l.quick_time == 0.0 {
+                        l.quick_start = (l.seg, l.j, l.seg_time);
+                        l.quick_ref = l.qa;
+                        l.quick_n = 0.0;
                     }
-                    l.seg = Quaternion::identity();
-                    l.j = nalgebra::Matrix3::zeros();
-                    l.u0 = u_now;
-                    l.f0 = f_now;
-                    l.active = true;
-                    l.seg_time = 0.0;
+                    l.quick_time += dt;
+                    if l.quick_time > QUICK_SETTLE_S {
+                        l.quick_n += dt;
+                        l.quick_mean += (l.qa - l.quick_mean) * (dt / l.quick_n);
+                    }
+                } else {
+                    if !quiet {
+                        l.quick_blocked = false;
+                    }
+                    if l.quick_time >= QUICK_MIN_S && l.quick_n > 0.0 {
+                        // the motion since the start of the short rest, in its frame:
+                        // C' = C₀ᵀ·C, J' = C₀ᵀ·(J − J₀)
+                        let (seg0, j0, t0) = l.quick_start;
+                        let inv = nalgebra::UnitQuaternion::new_normalize(seg0).inverse();
+                        let c0t = inv.to_rotation_matrix();
+                        let next = (
+                            inv.into_inner() * l.seg,
+                            c0t.matrix() * (l.j - j0),
+                            l.seg_time - t0,
+                        );
+                        let f_mean = l.quick_mean;
+                        l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
+                    }
+                    l.quick_time = 0.0;
+                    l.quick_n = 0.0;
                 }
             }
             l.was_rest = self.rest;

@@ -553,6 +553,50 @@ mod filter_tests {
     }
 
     #[test]
+    fn one_second_rests_are_rest_pairs_too() {
+        // The accelerometer bias of the test above, (7, −10, 5) mg, but the hand
+        // rests 1 s between moves. Rest proper waits for its 0.2-s and 0.25-s
+        // low-passes to settle after a fast move (1–1.5 s), then 1.5 s more:
+        // a 1-s rest was never declared, no rest pair was formed (0 pairs in
+        // 300 s) and the bias stayed in the tilt (0.97× VQF on the grid). The
+        // learner's own short-rest detector (a 0.05-s low-pass, 0.5 s under the
+        // rest thresholds) forms one pair per rest.
+        let params = HandParams {
+            rest_s: 1.0,
+            ..HandParams::by_hand()
+        };
+        let hand = HandMotion::new(params, 2);
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
+        let truth = Vec3::new(7.0, -10.0, 5.0) * 1e-3 * clino_core::G0;
+        model.accel.bias = truth;
+        let on = clino_core::filter::DynamicParams::default();
+        let off = clino_core::filter::DynamicParams {
+            accel_bias_sigma: 0.0,
+            ..on
+        };
+        let (e_on, d_on) = run_hand_for(&hand, &model, on, 300.0);
+        let (e_off, _) = run_hand_for(&hand, &model, off, 300.0);
+        let b = d_on.accel_bias();
+        let moves = (300.0 - params.initial_rest_s) / (params.move_s + params.rest_s);
+        println!(
+            "{} pairs in {moves:.0} moves, learnt {:?} mg: {e_on}° against {e_off}° without",
+            d_on.rest_pairs(),
+            b / (1e-3 * clino_core::G0),
+        );
+        assert!(
+            f64::from(d_on.rest_pairs()) > 0.8 * moves,
+            "{} pairs",
+            d_on.rest_pairs()
+        );
+        let (bh, th) = (b.xy(), truth.xy());
+        assert!(
+            bh.dot(&th) > 0.1 * th.norm_squared(),
+            "{bh:?} against {th:?}"
+        );
+        assert!(e_on < 0.95 * e_off, "{e_on}° against {e_off}°");
+    }
+
+    #[test]
     fn the_offline_smoother_uses_what_the_learner_learnt() {
         // Gyro (+2, −1.5, +1) % and accelerometer (+5, −5, +3) % scale errors,
         // hand motion, 100 Hz, 120 s. The smoother's last two passes do not
