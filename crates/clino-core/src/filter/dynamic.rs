@@ -94,7 +94,7 @@
 //!   pairs ([`DynamicParams::gyro_scale_sigma`],
 //!   [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
 //!   A rest of a second, too short to be declared rest, still ends a pair:
-//!   the learner recognises stillness on its own 0.05-s low-pass
+//!   the learner recognises stillness on its own two 0.05-s low-passes
 //!   (`QUICK_TAU_S`) and uses it when it lasted 0.5 s.
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
 //!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
@@ -376,9 +376,12 @@ struct ScaleLearner {
     pairs: u32,
     /// 1σ of (s, d, b) from the last update ([`model_average`]).
     sd: V9,
-    /// Rate and specific force low-passed at [`QUICK_TAU_S`].
+    /// Rate and specific force through two low-passes at [`QUICK_TAU_S`]
+    /// (`qg1`, `qa1` the first).
     qg: Vec3,
     qa: Vec3,
+    qg1: Vec3,
+    qa1: Vec3,
     /// The short rest so far: its duration (s), the low-passed specific force
     /// at its start, the mean after [`QUICK_SETTLE_S`] and the time in it.
     quick_time: f64,
@@ -418,23 +421,26 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// VQF, worst 1.22×).
 const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 
-/// Time constant of the low-pass on which short rests are recognised for the
-/// learner, s. Rest detection proper waits for the `vibration_tau_s` and
-/// `rest_lowpass_tau_s` low-passes to settle, 1–1.5 s after a fast motion
-/// stops, so a rest of a second or two is never declared and teaches
-/// nothing. A rest pair needs only the mean specific force of a stillness:
-/// 0.05 s (a 3-Hz corner) keeps the noise of the low-passed rate at 0.01°/s
-/// for an MPU6050 (0.005°/s/√Hz over 1/(4τ) = 5 Hz) and the specific force
-/// at 1 mg, far under the rest thresholds, and settles in 0.15 s. Vibration
-/// that the low-pass does not remove keeps the thresholds from holding:
-/// no short rest, and the learner waits for a rest proper.
+/// Time constant of each of the two cascaded low-passes on which short
+/// rests are recognised for the learner, s. Rest detection proper waits for
+/// the `vibration_tau_s` and `rest_lowpass_tau_s` low-passes to settle,
+/// 1–1.5 s after a fast motion stops, then `rest_time_s` more, so a rest of
+/// a second (a hand's) was never declared and taught nothing, and half the
+/// 2-s rests of a slow robot arm were missed. A rest pair needs only the mean
+/// specific force of a stillness. Two poles at 0.05 s keep the noise of the
+/// low-passed rate at 0.008°/s for an MPU6050 (0.005°/s/√Hz over the
+/// noise bandwidth 1/(8τ) = 2.5 Hz) and of the specific force under 1 mg,
+/// far under the rest thresholds; they take 30-Hz vibration (an engine, a
+/// robot's drives) down 89 times, so 2°/s and 1.5 m/s² of it pass as rest
+/// (0.02°/s, 0.02 m/s²), where one pole (10 times) left 0.16 m/s² and no
+/// short rest was seen; and they settle in 0.25 s. Vibration that they do
+/// not remove (under 10 Hz at 25-Hz sampling) keeps the thresholds from
+/// holding: no short rest, and the learner waits for a rest proper.
 const QUICK_TAU_S: f64 = 0.05;
-/// The part of a short rest left out of its mean, s: 3·QUICK_TAU_S, the
-/// low-pass's transient from the motion before it (5 %).
-const QUICK_SETTLE_S: f64 = 0.15;
-/// Shortest short rest used, s: the rate stays under the rest threshold
-/// (0.5°/s) for 0.5 s, which the reversal of a moving mount (a hand's,
-/// through zero rate at 100°/s², for 10 ms) or a slow turn does not.
+/// The part of a short rest left out of its mean, s: the cascade's step
+/// response is within 5 % after 4.74·QUICK_TAU_S, the transient of the
+/// motion before it.
+const QUICK_SETTLE_S: f64 = 0.25;
 const QUICK_MIN_S: f64 = 0.5;
 
 /// The specific force as learnt accelerometer errors correct it,
@@ -567,6 +573,8 @@ impl ScaleLearner {
             sd: V9::zeros(),
             qg: Vec3::zeros(),
             qa: Vec3::zeros(),
+            qg1: Vec3::zeros(),
+            qa1: Vec3::zeros(),
             quick_time: 0.0,
             quick_ref: Vec3::zeros(),
             quick_mean: Vec3::zeros(),
@@ -1276,8 +1284,10 @@ impl AttitudeFilter for Dynamic {
         {
             let l = &mut self.gsl;
             let k_quick = self.inv.k_quick.max(mean_k);
-            l.qg += (gyr - l.qg) * k_quick;
-            l.qa += (acc - l.qa) * k_quick;
+            l.qg1 += (gyr - l.qg1) * k_quick;
+            l.qa1 += (acc - l.qa1) * k_quick;
+            l.qg += (l.qg1 - l.qg) * k_quick;
+            l.qa += (l.qa1 - l.qa) * k_quick;
             if self.rest {
                 // the first sample of a rest after a motion: one observation;
                 // then every rest sample restarts the segment
