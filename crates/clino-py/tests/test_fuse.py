@@ -55,7 +55,13 @@ def test_stages_offline_and_lever_arm_equal_cli(cli, tmp_path):
     rec = clino.read_recording(EXCERPT)
     g, a, t = rec["gyr_rad_s"], rec["acc_m_s2"], rec["t_s"]
     table = cli_fuse(cli, EXCERPT, tmp_path, "--offline")
-    compare(clino.fuse_full(g, a, t=t, offline=True), table)
+    off = clino.fuse_full(g, a, t=t, offline=True)
+    compare(off, table)
+    assert off["sensor_errors"] is None
+    # a real-time dynamic run reports what it learnt from rest to rest
+    rt = clino.fuse_full(g, a, t=t)["sensor_errors"]
+    assert set(rt) >= {"rest_pairs", "accel_bias_m_s2", "accel_bias_sigma_m_s2", "probability"}
+    assert all(0.0 <= p <= 1.0 for p in rt["probability"])
     table = cli_fuse(cli, EXCERPT, tmp_path, "-f", "mahony", "--lever-arm", "0.1,-0.05,0.02")
     compare(clino.fuse_full(g, a, t=t, filter="mahony", lever_arm=(0.1, -0.05, 0.02)), table)
 

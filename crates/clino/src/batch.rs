@@ -461,6 +461,12 @@ fn fuse_rows(
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
         run_rows(&mut p, arrays, put);
+        // what `clino fuse` reports of a real-time run, from the same pipeline
+        report.mount = p.mount_estimator().map(crate::fusion::MountReport::of);
+        report.sensor_errors = p
+            .filter()
+            .as_dynamic()
+            .map(crate::fusion::SensorErrorReport::of);
     }
     Ok(report)
 }
@@ -690,6 +696,13 @@ mod tests {
                 ];
                 let rep = fuse_arrays(&arr, &cfg, None, &mut out).unwrap();
                 assert_eq!(rep.counts.dropouts, 1);
+                // the learnt sensor errors of a real-time dynamic run, as `clino fuse` reports them
+                assert_eq!(
+                    rep.sensor_errors.is_some(),
+                    cfg.kind() == FilterKind::Dynamic && !cfg.offline,
+                    "{}",
+                    cfg.label()
+                );
                 assert_eq!(rep.first_dropout_line, Some(37));
                 for (o, r) in out.iter().zip(&rows) {
                     let q = o.attitude.unwrap();

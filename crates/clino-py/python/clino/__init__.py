@@ -203,7 +203,11 @@ def fuse_full(
     (aerospace z-y-x, degrees), ``inclination_deg`` (body z from the vertical,
     degrees), each (N,); ``status`` (N,) str (``waiting``, ``init``, ``fused``,
     ``gyro_only``, ``dropout``, ``saturated``); ``status_code`` (N,) uint8 (index
-    in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts). The same
+    in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts);
+    ``sensor_errors`` (dict: what ``dynamic`` learnt from rest to rest, with 1σ
+    and probabilities, as ``clino fuse`` prints it; None offline or for another
+    filter); ``mount`` (dict: the online accelerometer bias and lever arm with
+    their 1σ, when the configuration estimates them; else None). The same
     numbers as the columns of ``clino fuse``.
     """
     q, d, st, counts = _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, True, params)
@@ -215,6 +219,8 @@ def fuse_full(
         "status": _np.array(STATUS_NAMES, dtype=object)[st],
         "status_code": st,
         "counts": counts["counts"],
+        "sensor_errors": counts.get("sensor_errors"),
+        "mount": counts.get("mount"),
     }
 
 
