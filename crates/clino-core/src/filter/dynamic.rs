@@ -2316,4 +2316,82 @@ mod tests {
         assert!(f.attitude().angle_to(&q) > 0.0 && f.attitude().angle_to(&q) < 0.01);
         assert!(f.attitude().quaternion().norm().is_finite());
     }
+
+    /// Body rate of a rest–turn–stillness–turn–rest sequence: 4 s of rest, a
+    /// 2-s turn of 1.6 rad about one axis, a 1.2-s stillness (a short rest:
+    /// rest proper would need ≈ 3 s), a 2-s turn about another axis, rest.
+    fn two_turns(t: f64) -> Vec3 {
+        let bump = |u: f64| (core::f64::consts::PI * u / 2.0).sin().powi(2);
+        if (4.0..6.0).contains(&t) {
+            Vector3::new(0.3, 0.5, 0.8).normalize() * (1.6 * bump(t - 4.0))
+        } else if (7.2..9.2).contains(&t) {
+            Vector3::new(-0.7, 0.6, 0.2).normalize() * (1.4 * bump(t - 7.2))
+        } else {
+            Vector3::zeros()
+        }
+    }
+
+    #[test]
+    fn a_short_rest_carries_the_next_segment_on_as_if_it_started_there() {
+        // The segment after a short rest starts at the rest's beginning,
+        // carried on from the running segment as C' = C₀ᵀ·C, J' = C₀ᵀ·(J − J₀).
+        // Checked against the segment integrated afresh from that sample: its
+        // rotation ∏ exp(ω·dt) and its integral J = Σ C·diag(ω)·dt, from the
+        // rates the filter uses ((ω_meas − b)·(1 − s), read before each step),
+        // through the whole second turn up to the next rest proper.
+        let rate = 100.0;
+        let dt = 1.0 / rate;
+        let mut f = Dynamic::default();
+        let mut noise = Noise(11);
+        let bias = Vector3::new(0.3, -0.2, 0.1) * (core::f64::consts::PI / 180.0);
+        let mut q = UnitQuaternion::from_euler_angles(0.1, -0.05, 0.0);
+        // the fresh segment: rotation, integral, duration
+        let mut fresh: Option<(UnitQuaternion<f64>, nalgebra::Matrix3<f64>, f64)> = None;
+        let (mut pairs_at_quick, mut compared, mut j_norm) = (None, 0, 0.0f64);
+        for k in 0..(13.0 * rate) as usize {
+            let t = (k as f64 + 0.5) * dt;
+            let w_true = two_turns(t);
+            q *= UnitQuaternion::from_scaled_axis(w_true * dt);
+            let gyr = w_true + bias + noise.vec(0.005f64.to_radians() * rate.sqrt());
+            let acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0))
+                + noise.vec(400e-6 * G0 * rate.sqrt());
+            let before = f.clone();
+            f.update(gyr, acc, dt);
+            let w = (gyr - before.bias).component_mul(&(Vector3::repeat(1.0) - before.gsl.s));
+            if before.gsl.quick_time == 0.0 && f.gsl.quick_time > 0.0 {
+                fresh = Some((UnitQuaternion::identity(), nalgebra::Matrix3::zeros(), 0.0));
+                pairs_at_quick = Some(before.gsl.pairs);
+            }
+            if let Some((c, j, ts)) = fresh.as_mut() {
+                if f.rest {
+                    break;
+                }
+                *c *= UnitQuaternion::from_scaled_axis(w * dt);
+                for i in 0..3 {
+                    let col = c.to_rotation_matrix().matrix().column(i) * (w[i] * dt);
+                    let mut ji = j.column_mut(i);
+                    ji += col;
+                }
+                *ts += dt;
+                if f.gsl.quick_time == 0.0 && before.gsl.quick_time > 0.0 {
+                    // the short rest was observed here
+                    assert_eq!(Some(f.gsl.pairs), pairs_at_quick.map(|n| n + 1));
+                }
+                if pairs_at_quick.is_some_and(|n| f.gsl.pairs > n) {
+                    let seg = UnitQuaternion::new_normalize(f.gsl.seg);
+                    assert!(seg.angle_to(c) < 1e-9, "t {t}: {}", seg.angle_to(c));
+                    assert!((f.gsl.j - *j).norm() < 1e-9, "t {t}: {}", f.gsl.j - *j);
+                    assert!((f.gsl.seg_time - *ts).abs() < 1e-9);
+                    compared += 1;
+                    j_norm = j_norm.max(j.norm());
+                }
+            }
+        }
+        // the whole second turn (2 s, until the stillness after it starts the
+        // next short rest) was compared, and its integral is large
+        assert!(
+            compared > 150 && j_norm > 1.0,
+            "{compared} steps, |J| {j_norm}"
+        );
+    }
 }
