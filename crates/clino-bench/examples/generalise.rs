@@ -25,7 +25,7 @@ use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
 use clino::io::{ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams};
-use clino::sim::motion::{ConeAxis, Conical, Orbit, Sum};
+use clino::sim::motion::{Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
 use clino::sim::{ImuModel, Motion};
 use clino::smooth::{SmoothOptions, smooth};
@@ -286,19 +286,9 @@ fn make(c: &Condition, seed: u64) -> Rec {
             let from = p.initial_rest_s;
             if let Kind::SlowVib = c.kind {
                 let f = (0.35 * c.rate).min(30.0);
-                let w = 2.0 * std::f64::consts::PI * f;
-                let lin = Orbit {
-                    amplitude_m: Vec3::new(1.5, 1.0, 1.2) / (w * w),
-                    phase_rad: Vec3::new(0.0, 1.0, 2.0),
-                    omega_rad_s: w,
-                    attitude: Attitude::identity(),
-                    start_s: f64::NEG_INFINITY,
-                    ramp_s: 0.0,
-                };
-                let ang = Conical::new(ConeAxis::Z, 2f64.to_radians() / w, f);
                 let m = Sum {
-                    a: Sum { a: hand, b: lin },
-                    b: ang,
+                    a: hand,
+                    b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
                 };
                 simulate(&m, &model, c.rate, seconds, seed, from, None)
             } else {

@@ -504,6 +504,26 @@ mod filter_tests {
         assert!(c_on < 1.05 * c_off, "{c_on}° against {c_off}°");
     }
 
+    /// The hand simulation's sensor (40-Hz bandwidth) with an uncalibrated
+    /// accelerometer bias of (7, −10, 5) mg; the bias in m/s²; the default
+    /// parameters, and the same without the bias learnt.
+    fn biased_accelerometer() -> (
+        crate::sim::ImuModel,
+        Vec3,
+        clino_core::filter::DynamicParams,
+        clino_core::filter::DynamicParams,
+    ) {
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
+        let truth = Vec3::new(7.0, -10.0, 5.0) * 1e-3 * clino_core::G0;
+        model.accel.bias = truth;
+        let on = clino_core::filter::DynamicParams::default();
+        let off = clino_core::filter::DynamicParams {
+            accel_bias_sigma: 0.0,
+            ..on
+        };
+        (model, truth, on, off)
+    }
+
     #[test]
     fn accelerometer_bias_is_learnt_from_turns_between_rests() {
         // An uncalibrated accelerometer bias, (7, −10, 5) mg, moved by hand
@@ -513,14 +533,7 @@ mod filter_tests {
         // body-frame bias another way in the world; the gyro-carried
         // direction then misses the measured one by (C·P_u1 − P_u0)·b/g.
         let hand = HandMotion::new(HandParams::by_hand(), 2);
-        let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
-        let truth = Vec3::new(7.0, -10.0, 5.0) * 1e-3 * clino_core::G0;
-        model.accel.bias = truth;
-        let on = clino_core::filter::DynamicParams::default();
-        let off = clino_core::filter::DynamicParams {
-            accel_bias_sigma: 0.0,
-            ..on
-        };
+        let (model, truth, on, off) = biased_accelerometer();
         let (e_on, d_on) = run_hand_for(&hand, &model, on, 300.0);
         let (e_off, d_off) = run_hand_for(&hand, &model, off, 300.0);
         let b = d_on.accel_bias();
@@ -566,14 +579,7 @@ mod filter_tests {
             ..HandParams::by_hand()
         };
         let hand = HandMotion::new(params, 2);
-        let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
-        let truth = Vec3::new(7.0, -10.0, 5.0) * 1e-3 * clino_core::G0;
-        model.accel.bias = truth;
-        let on = clino_core::filter::DynamicParams::default();
-        let off = clino_core::filter::DynamicParams {
-            accel_bias_sigma: 0.0,
-            ..on
-        };
+        let (model, truth, on, off) = biased_accelerometer();
         let (e_on, d_on) = run_hand_for(&hand, &model, on, 300.0);
         let (e_off, _) = run_hand_for(&hand, &model, off, 300.0);
         let b = d_on.accel_bias();
@@ -606,25 +612,13 @@ mod filter_tests {
         // threshold at its peaks, and caught none. Two poles (89 times down
         // at 30 Hz) catch every rest: on the grid this took the arm with
         // ±5 % accelerometer scale errors from 1.00× to 0.89× VQF.
-        use crate::sim::motion::{ConeAxis, Conical, Orbit, Sum};
+        use crate::sim::motion::{Sum, vibration};
         use clino_core::filter::AttitudeFilter;
         let params = HandParams::slow();
         let (rate, seconds) = (125.0, 240.0);
-        let w = 2.0 * PI * 30.0;
-        let lin = Orbit {
-            amplitude_m: Vec3::new(1.5, 1.0, 1.2) / (w * w),
-            phase_rad: Vec3::new(0.0, 1.0, 2.0),
-            omega_rad_s: w,
-            attitude: Attitude::identity(),
-            start_s: f64::NEG_INFINITY,
-            ramp_s: 0.0,
-        };
         let m = Sum {
-            a: Sum {
-                a: HandMotion::new(params, 1),
-                b: lin,
-            },
-            b: Conical::new(ConeAxis::Z, 2f64.to_radians() / w, 30.0),
+            a: HandMotion::new(params, 1),
+            b: vibration(30.0, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
         };
         let mut model = crate::sim::slewing::sensor().with_bandwidth(0.4 * rate);
         model.accel.scale = Vec3::repeat(-0.04);

@@ -276,6 +276,26 @@ impl<A: Motion, B: Motion> Motion for Sum<A, B> {
     }
 }
 
+/// A vibrating base (an engine, a robot's drives) at `freq_hz`: linear
+/// vibration of acceleration amplitude `acc_m_s2` per navigation axis (an
+/// [`Orbit`] of amplitude a/ω², phases 0, 1, 2 rad) and angular vibration of
+/// rate amplitude `rate_rad_s` (a [`Conical`] motion about z of angle
+/// rate/ω). Ride it on a motion with [`Sum`]: `Sum { a: motion, b: vibration(..) }`.
+pub fn vibration(freq_hz: f64, rate_rad_s: f64, acc_m_s2: Vec3) -> Sum<Orbit, Conical> {
+    let w = 2.0 * std::f64::consts::PI * freq_hz;
+    Sum {
+        a: Orbit {
+            amplitude_m: acc_m_s2 / (w * w),
+            phase_rad: Vec3::new(0.0, 1.0, 2.0),
+            omega_rad_s: w,
+            attitude: Attitude::identity(),
+            start_s: f64::NEG_INFINITY,
+            ramp_s: 0.0,
+        },
+        b: Conical::new(ConeAxis::Z, rate_rad_s / w, freq_hz),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -380,6 +400,21 @@ mod tests {
         };
         check_derivatives(&s2);
         assert_relative_eq!(s2.truth(0.3).pos_m, o.truth(0.3).pos_m, epsilon = 1e-15);
+    }
+
+    #[test]
+    fn vibration_has_the_amplitudes_asked_for() {
+        check_derivatives(&vibration(3.0, 0.035, Vec3::new(1.5, 1.0, 1.2)));
+        let v = vibration(30.0, 0.035, Vec3::new(1.5, 1.0, 1.2));
+        let (mut w_max, mut a_max) = (0.0f64, Vec3::zeros());
+        for k in 0..1000 {
+            let tr = v.truth(k as f64 * 1e-4);
+            w_max = w_max.max(tr.gyr_rad_s.xy().norm());
+            a_max = a_max.sup(&tr.acc_m_s2.abs());
+        }
+        // the cone's rate across its axis is ω·sin α (α = rate/ω)
+        assert_relative_eq!(w_max, 0.035, max_relative = 1e-6);
+        assert_relative_eq!(a_max, Vec3::new(1.5, 1.0, 1.2), max_relative = 1e-3);
     }
 
     #[test]
