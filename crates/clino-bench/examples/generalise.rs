@@ -18,6 +18,12 @@
 //! Simulated recordings are scored from the end of their initial rest on
 //! (motion and the rests between moves); BROAD on its `movement` samples.
 //! A non-finite estimate makes a score NaN (never dropped).
+//!
+//! A second table scores VQF and `dynamic` at rest only: the simulated
+//! motion's own rests after its first move (the carrying motion still; the
+//! vibration riding on it goes on), and BROAD's non-movement samples after
+//! its first movement. A steady offset the loop leaves at rest (the unseen
+//! chain's failure mode) shows there, where the whole-run RMSE averages it away.
 
 use clino::core::compensate::{LeverArm, MountOptions};
 use clino::core::{Attitude, ImuSample, Vec3};
@@ -36,20 +42,31 @@ struct Rec {
     samples: Vec<ImuSample>,
     truth: Vec<Option<Attitude>>,
     scored: Vec<bool>,
+    /// Which scored samples are at rest (the motion's own rests after the
+    /// first motion; none on the slewing machine, whose engine never stops).
+    rest: Vec<bool>,
     /// Lever arm to compensate (slewing machine), m.
     lever: Option<Vec3>,
 }
 
 fn rmse(rec: &Rec, est: &[Attitude]) -> f64 {
+    rmse_over(rec, est, &rec.scored)
+}
+
+/// RMSE over the samples `mask` marks (NaN when none).
+fn rmse_over(rec: &Rec, est: &[Attitude], mask: &[bool]) -> f64 {
     let (mut s, mut n) = (0.0, 0usize);
     for (k, q) in est.iter().enumerate() {
-        if let (true, Some(t)) = (rec.scored[k], rec.truth[k]) {
+        if let (true, Some(t)) = (mask[k], rec.truth[k]) {
             let e = inclination_error(q, &t);
             s += e * e;
             n += 1;
         }
     }
-    (s / n.max(1) as f64).sqrt().to_degrees()
+    if n == 0 {
+        return f64::NAN;
+    }
+    (s / n as f64).sqrt().to_degrees()
 }
 
 fn nominal_dt(rec: &Rec) -> f64 {
@@ -159,13 +176,25 @@ fn simulate(
         .iter()
         .map(|s| Some(motion.truth(s.t_s).attitude))
         .collect();
-    let scored = samples.iter().map(|s| s.t_s >= score_from).collect();
+    let scored: Vec<bool> = samples.iter().map(|s| s.t_s >= score_from).collect();
+    let rest = vec![false; samples.len()];
     Rec {
         samples,
         truth,
         scored,
+        rest,
         lever,
     }
+}
+
+/// `rec` with its rests marked: the scored samples at which `motion` (the
+/// carrying motion, without the vibration riding on it) is still.
+fn with_rests(mut rec: Rec, motion: &dyn Motion) -> Rec {
+    for (k, s) in rec.samples.iter().enumerate() {
+        let t = motion.truth(s.t_s);
+        rec.rest[k] = rec.scored[k] && t.gyr_rad_s.norm() < 1e-9 && t.acc_m_s2.norm() < 1e-9;
+    }
+    rec
 }
 
 /// The sensor of a condition.
@@ -290,9 +319,15 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     a: hand,
                     b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
                 };
-                simulate(&m, &model, c.rate, seconds, seed, from, None)
+                with_rests(
+                    simulate(&m, &model, c.rate, seconds, seed, from, None),
+                    &hand,
+                )
             } else {
-                simulate(&hand, &model, c.rate, seconds, seed, from, None)
+                with_rests(
+                    simulate(&hand, &model, c.rate, seconds, seed, from, None),
+                    &hand,
+                )
             }
         }
     }
@@ -346,25 +381,64 @@ fn load_broad(path: &PathBuf) -> clino::Result<Rec> {
         samples: vec![],
         truth: vec![],
         scored: vec![],
+        rest: vec![],
         lever: None,
     };
+    let mut moved = false;
     while let Some(row) = r.next_row()? {
         rec.samples.push(row.sample);
         rec.truth.push(row.ref_q);
-        rec.scored.push(row.movement.unwrap_or(false));
+        let m = row.movement.unwrap_or(false);
+        moved |= m;
+        rec.scored.push(m);
+        // BROAD's own rests after its first motion (not the initial one)
+        rec.rest.push(moved && row.movement == Some(false));
     }
     Ok(rec)
 }
 
-/// Scores of one recording: VQF, then each of `filters`, then offline dynamic.
+/// Scores of one recording: VQF, then each of `filters`, then offline
+/// dynamic, then dynamic with the mount estimator; then at rest
+/// ([`Rec::rest`]) VQF and the first of `filters`.
 fn score(rec: &Rec, filters: &[FilterSpec], dynamic: &FilterSpec) -> Vec<f64> {
-    let mut out = vec![rmse(rec, &run_vqf(rec))];
-    for f in filters {
-        out.push(rmse(rec, &run_clino(rec, f)));
+    let vqf = run_vqf(rec);
+    let mut out = vec![rmse(rec, &vqf)];
+    let mut first_rest = f64::NAN;
+    for (i, f) in filters.iter().enumerate() {
+        let est = run_clino(rec, f);
+        out.push(rmse(rec, &est));
+        if i == 0 {
+            first_rest = rmse_over(rec, &est, &rec.rest);
+        }
     }
     out.push(rmse(rec, &run_offline(rec, dynamic)));
     out.push(rmse(rec, &run_mount(rec, dynamic, false).0));
+    out.push(rmse_over(rec, &vqf, &rec.rest));
+    out.push(first_rest);
     out
+}
+
+/// The error at rest of VQF and of `dynamic` (the last two scores of each
+/// row): a steady offset the loop leaves at rest shows here.
+fn print_rest_table(rows: &[(String, Vec<Vec<f64>>)]) {
+    println!("\nat rest (the motion's own rests after the first motion): inclination RMSE");
+    println!(
+        "{:<40}{:>8}{:>9}{:>7}{:>7}",
+        "condition (seeds)", "vqf °", "dynamic", "ratio", "worst"
+    );
+    for (label, r) in rows {
+        let (n, k) = (r.len(), r[0].len());
+        let vm = r.iter().map(|x| x[k - 2]).sum::<f64>() / n as f64;
+        let dm = r.iter().map(|x| x[k - 1]).sum::<f64>() / n as f64;
+        if !vm.is_finite() {
+            continue;
+        }
+        let worst = r
+            .iter()
+            .map(|x| x[k - 1] / x[k - 2])
+            .fold(f64::NAN, f64::max);
+        println!("{label:<40}{vm:>8.3}{dm:>9.3}{:>7.2}{worst:>7.2}", dm / vm);
+    }
 }
 
 fn main() -> clino::Result<()> {
@@ -478,6 +552,7 @@ fn main() -> clino::Result<()> {
         }
         println!();
     };
+    let mut rest_rows: Vec<(String, Vec<Vec<f64>>)> = Vec::new();
     for c in &conditions {
         if let Some(o) = &only
             && !c.name.contains(o.as_str())
@@ -487,7 +562,9 @@ fn main() -> clino::Result<()> {
         let rows: Vec<Vec<f64>> = (0..seeds)
             .map(|s| score(&make(c, s + 1), &filters, &dynamic))
             .collect();
-        print_row(&format!("{} ({seeds})", c.name), &rows, &mut all_ratio);
+        let label = format!("{} ({seeds})", c.name);
+        print_row(&label, &rows, &mut all_ratio);
+        rest_rows.push((label, rows));
     }
     if let Some(d) = broad
         && only.as_deref().is_none_or(|o| "broad".contains(o))
@@ -510,8 +587,11 @@ fn main() -> clino::Result<()> {
                 r[5]
             );
         }
-        print_row(&format!("BROAD ({})", rows.len()), &rows, &mut all_ratio);
+        let label = format!("BROAD ({})", rows.len());
+        print_row(&label, &rows, &mut all_ratio);
+        rest_rows.push((label, rows));
     }
+    print_rest_table(&rest_rows);
     if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
         slewing_estimates(seeds, &dynamic);
     }
