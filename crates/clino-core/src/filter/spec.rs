@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 24] = [
+const DYNAMIC_PARAMS: [ParamInfo; 25] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -328,6 +328,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 24] = [
         "s",
         NON_NEGATIVE,
         "rest time after power-on during which tilt is also aligned",
+    ),
+    p(
+        "rest_pull_rad_s",
+        "rad/s",
+        NON_NEGATIVE,
+        "pull of the tilt to the accelerometer at later rests (0: off; for real stops)",
     ),
     p(
         "gyro_scale_sigma",
@@ -562,6 +568,7 @@ impl FilterSpec {
                     "start_bandwidth_rad_s" => &mut d.start_bandwidth_rad_s,
                     "start_time_s" => &mut d.start_time_s,
                     "alignment_s" => &mut d.alignment_s,
+                    "rest_pull_rad_s" => &mut d.rest_pull_rad_s,
                     "gyro_scale_sigma" => &mut d.gyro_scale_sigma,
                     "accel_scale_sigma" => &mut d.accel_scale_sigma,
                     "accel_bias_sigma" => &mut d.accel_bias_sigma,
@@ -615,6 +622,7 @@ impl FilterSpec {
                 "start_bandwidth_rad_s" => n(d.start_bandwidth_rad_s),
                 "start_time_s" => n(d.start_time_s),
                 "alignment_s" => n(d.alignment_s),
+                "rest_pull_rad_s" => n(d.rest_pull_rad_s),
                 "gyro_scale_sigma" => n(d.gyro_scale_sigma),
                 "accel_scale_sigma" => n(d.accel_scale_sigma),
                 "accel_bias_sigma" => n(d.accel_bias_sigma),
@@ -677,6 +685,7 @@ impl FilterSpec {
                     ("start_bandwidth_rad_s", d.start_bandwidth_rad_s),
                     ("start_time_s", d.start_time_s),
                     ("alignment_s", d.alignment_s),
+                    ("rest_pull_rad_s", d.rest_pull_rad_s),
                     ("gyro_scale_sigma", d.gyro_scale_sigma),
                     ("accel_scale_sigma", d.accel_scale_sigma),
                     ("accel_bias_sigma", d.accel_bias_sigma),
