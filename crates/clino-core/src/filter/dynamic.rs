@@ -1530,7 +1530,10 @@ impl AttitudeFilter for Dynamic {
                 } else {
                     self.gsl.qa
                 };
-                pull = pull.max(p.rest_pull_rad_s * self.gsl.rest_trust(p, &f));
+                // at most the whole disagreement in one step: a larger rate
+                // (the key allows up to 1e9 rad/s) would overshoot
+                let rest_pull = (p.rest_pull_rad_s * self.gsl.rest_trust(p, &f)).min(1.0 / dt);
+                pull = pull.max(rest_pull);
             }
             let ks = pull * dt * self.inv.gravity;
             if pull > 0.0 {
@@ -2515,6 +2518,25 @@ mod tests {
     }
 
     #[test]
+    fn rest_trust_is_the_closed_form_at_two_poses() {
+        // before any pair: the priors, σ_d = 0.03 per axis, σ_b = 0.1 m/s²
+        let p = DynamicParams::default();
+        let l = ScaleLearner::new();
+        let (st2, b2) = (1e-4, (0.1 / p.gravity_m_s2) * (0.1f64 / p.gravity_m_s2));
+        // level: a scale error does not turn the direction (P_z·e_z = 0)
+        let level = l.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8));
+        assert!((level - st2 / (st2 + b2)).abs() < 1e-12, "{level}");
+        // 45° about x, u = (0, 1, 1)/√2: columns y and z of P_u·diag(u∘σ)
+        // each have |·|² = σ²/4, so σ_dir² = σ²/2 + (σ_b/g)²
+        let tilted = l.rest_trust(&p, &Vector3::new(0.0, 6.0, 6.0));
+        let want = st2 / (st2 + 0.03 * 0.03 / 2.0 + b2);
+        assert!((tilted - want).abs() < 1e-12, "{tilted} against {want}");
+        // no specific force, or NaN: no trust
+        assert_eq!(l.rest_trust(&p, &Vector3::zeros()), 0.0);
+        assert_eq!(l.rest_trust(&p, &Vector3::new(f64::NAN, 0.0, 9.8)), 0.0);
+    }
+
+    #[test]
     fn the_rest_pull_removes_a_moves_tilt_error_at_the_rest_after_it() {
         // Off (the default) the loop removes the turn's tilt error at its own
         // bandwidth (0.15 rad/s): 2.6° → 0.83° 5 s into the rest. On at
@@ -2530,5 +2552,12 @@ mod tests {
         assert!(off.1 > 1.0 && (on.1 - off.1).abs() < 0.01, "{off:?} {on:?}");
         assert!(off.0 > 0.25 * off.1, "{off:?}");
         assert!(on.0 < 0.5 * off.0, "{on:?} against {off:?}");
+        // the largest rate the key accepts is held to one step's whole
+        // disagreement: the tilt follows the accelerometer, nothing overshoots
+        let most = rest_after_scaled_turn(DynamicParams {
+            rest_pull_rad_s: 1e9,
+            ..DynamicParams::default()
+        });
+        assert!(most.0.is_finite() && most.0 < on.0, "{most:?}");
     }
 }
