@@ -333,7 +333,7 @@ const DYNAMIC_PARAMS: [ParamInfo; 25] = [
         "rest_pull_rad_s",
         "rad/s",
         NON_NEGATIVE,
-        "pull of the tilt to the accelerometer at later rests (0: off; for real stops)",
+        "pull of the tilt to the accelerometer at later rests (0: off, where slow translations pass for rest)",
     ),
     p(
         "gyro_scale_sigma",
