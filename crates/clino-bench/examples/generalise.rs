@@ -198,6 +198,15 @@ fn with_rests(mut rec: Rec, motion: &dyn Motion) -> Rec {
     rec
 }
 
+/// Marks the rests of a held hand motion ([`HandMotion::at_rest`]: the
+/// clock creeping, the hand holding a pose) as the rests to score at rest.
+fn held_rests(mut rec: Rec, motion: &HandMotion) -> Rec {
+    for (k, s) in rec.samples.iter().enumerate() {
+        rec.rest[k] = rec.scored[k] && motion.at_rest(s.t_s);
+    }
+    rec
+}
+
 /// The sensor of a condition.
 #[derive(Clone, Copy, Debug)]
 enum Sensor {
@@ -280,6 +289,11 @@ enum Kind {
     SlowVib,
     /// The hand motion with 1-s rests.
     ShortRests,
+    /// The hand motion with its rests held in the hand, not set down
+    /// ([`HandParams::held`]: the pose creeps on at 1 % of the motion's
+    /// speed) and a physiological tremor throughout (9 Hz, 0.1 m/s²,
+    /// 1°/s).
+    Held,
     /// The slewing excavator with the lever arm given.
     Slewing,
 }
@@ -291,6 +305,7 @@ impl Kind {
             Kind::Slow => "slow",
             Kind::SlowVib => "slow+vib",
             Kind::ShortRests => "hand,rests1s",
+            Kind::Held => "hand,held",
             Kind::Slewing => "slewing+lever",
         }
     }
@@ -323,9 +338,10 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 Some(m.lever_arm_m),
             )
         }
-        Kind::Hand | Kind::Slow | Kind::SlowVib | Kind::ShortRests => {
+        Kind::Hand | Kind::Slow | Kind::SlowVib | Kind::ShortRests | Kind::Held => {
             let mut p = match c.kind {
                 Kind::Slow | Kind::SlowVib => HandParams::slow(),
+                Kind::Held => HandParams::held(),
                 _ => HandParams::by_hand(),
             };
             if let Kind::ShortRests = c.kind {
@@ -333,6 +349,15 @@ fn make(c: &Condition, seed: u64) -> Rec {
             }
             let hand = HandMotion::new(p, seed);
             let from = p.initial_rest_s;
+            if let Kind::Held = c.kind {
+                // physiological tremor, 8–12 Hz: about 0.1 m/s² and 1°/s
+                let m = Sum {
+                    a: hand,
+                    b: vibration(9.0, 1f64.to_radians(), Vec3::new(0.1, 0.08, 0.06)),
+                };
+                let rec = simulate(&m, &model, c.rate, seconds, seed, from, None);
+                return held_rests(rec, &hand);
+            }
             if let Kind::SlowVib = c.kind {
                 let f = (0.35 * c.rate).min(30.0);
                 let m = Sum {
@@ -519,7 +544,7 @@ fn main() -> clino::Result<()> {
     ];
     let mut conditions = Vec::new();
     for &rate in &[25.0, 100.0, 1000.0] {
-        for kind in [Kind::Hand, Kind::SlowVib, Kind::ShortRests] {
+        for kind in [Kind::Hand, Kind::SlowVib, Kind::ShortRests, Kind::Held] {
             for sensor in [Sensor::Calibrated, Sensor::ScaleLow, Sensor::Bias] {
                 conditions.push(Condition {
                     name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),

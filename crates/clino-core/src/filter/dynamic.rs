@@ -95,7 +95,13 @@
 //!   [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
 //!   A rest of a second, too short to be declared rest, still ends a pair:
 //!   the learner recognises stillness on its own two 0.05-s low-passes
-//!   (`QUICK_TAU_S`) and uses it when it lasted 0.5 s.
+//!   (`QUICK_TAU_S`) and uses it when it lasted 0.5 s. A pose held in a
+//!   hand, creeping on at a degree a second, ends a pair too: the specific
+//!   force turns only as the gyro says (`HELD_GYR_RAD_S`).
+//! * **Rests remove a move's tilt error.** At rests, short rests and held
+//!   poses the tilt is pulled to the accelerometer at up to
+//!   [`DynamicParams::rest_pull_rad_s`], weighted by what the learner still
+//!   doubts of the accelerometer at that pose.
 //! * **Vibration.** Rest is judged on rate and specific force low-passed at
 //!   about 0.8 Hz (`vibration_tau_s`): an idling engine shakes the sensor by
 //!   metres per second squared at tens of hertz without moving the mount.
@@ -204,7 +210,8 @@ pub struct DynamicParams {
     /// `coarse_alignment_ends_with_the_first_rest`).
     pub alignment_s: f64,
     /// Pull of the tilt straight to the accelerometer at later rests (rests
-    /// proper and the learner's short rests), rad/s, weighted by how far the
+    /// proper, the learner's short rests and held poses, `HELD_GYR_RAD_S`),
+    /// rad/s, weighted by how far the
     /// accelerometer's direction can be trusted at this pose:
     /// w = σ_t²/(σ_t² + σ_dir²), σ_t = 0.01 rad the tilt error a move leaves
     /// and σ_dir the direction error the learner's remaining accelerometer
@@ -419,6 +426,10 @@ struct ScaleLearner {
     quick_start: (Quaternion<f64>, nalgebra::Matrix3<f64>, f64),
     /// A rest has been used since the last motion: a short rest needs motion first.
     quick_blocked: bool,
+    /// A held pose ([`HELD_GYR_RAD_S`]): the low-passed specific force when
+    /// it began, turned since by the low-passed rate, and the time it has held.
+    held_ref: Vec3,
+    held_time: f64,
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -469,6 +480,22 @@ const QUICK_TAU_S: f64 = 0.05;
 /// motion before it.
 const QUICK_SETTLE_S: f64 = 0.25;
 const QUICK_MIN_S: f64 = 0.5;
+
+/// Largest rate of a held pose, rad/s (2°/s). A hand holding an instrument
+/// in the air, rather than setting it down, never stops: the pose creeps on
+/// at up to a degree or two a second, over the rest threshold
+/// (`rest_gyr_rad_s`, 0.5°/s, which keeps such creep from being learnt as
+/// gyro bias), so no rest is declared and the move's tilt error stays. Yet
+/// the accelerometer then reads gravity alone, as at rest: the specific
+/// force turns only as the gyro says. A held pose is the short rest's test
+/// with the rotation allowed — the low-passed specific force within
+/// `rest_acc_m_s2` of its value when the pose began, turned by the
+/// low-passed rate since, for [`QUICK_MIN_S`] — and it gets the rest pull
+/// (`rest_pull_rad_s`), never the bias or scale learning. 2°/s is VQF's own
+/// rest threshold; a constant acceleration seen through a slow turn passes
+/// the test as it passes for rest at a standstill (the trade-off at
+/// `rest_pull_rad_s`).
+const HELD_GYR_RAD_S: f64 = 0.034_906_585_039_886_59;
 
 /// The specific force as learnt accelerometer errors correct it,
 /// f·(1 − d) − b: `d` the scale-factor errors (fraction per body axis), `b`
@@ -647,6 +674,8 @@ impl ScaleLearner {
             quick_n: 0.0,
             quick_start: (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0),
             quick_blocked: true,
+            held_ref: Vec3::zeros(),
+            held_time: 0.0,
         }
     }
     /// A rest pair: the motion since the last rest (the segment's rotation
@@ -1420,6 +1449,32 @@ impl AttitudeFilter for Dynamic {
                 }
             }
             l.was_rest = self.rest;
+            // a held pose: the specific force turns only as the gyro says
+            // (a world-fixed vector in the body frame: v' = −ω × v)
+            let w = l.qg - self.bias;
+            let turned = l.held_ref - w.cross(&l.held_ref) * dt;
+            if w.norm_squared() < HELD_GYR_RAD_S * HELD_GYR_RAD_S
+                && (l.qa - turned).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
+            {
+                l.held_ref = turned;
+                l.held_time += dt;
+                // once per held pose that is neither a rest nor a short rest:
+                // a rest pair on the gravity direction at this instant
+                if l.held_time > QUICK_MIN_S
+                    && l.held_time - dt <= QUICK_MIN_S
+                    && !self.rest
+                    && self.rested_once
+                    && l.quick_time == 0.0
+                {
+                    let (seg, j, seg_time) = (l.seg, l.j, l.seg_time);
+                    let next = (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0);
+                    let f_now = l.qa;
+                    l.observe(p, bias_sigma, true, seg, j, seg_time, f_now, next);
+                }
+            } else {
+                l.held_ref = l.qa;
+                l.held_time = 0.0;
+            }
         }
         let wn = sqrt(w2);
         self.rate_lp += (wn - self.rate_lp) * k_lp;
@@ -1529,7 +1584,9 @@ impl AttitudeFilter for Dynamic {
             }
             if p.rest_pull_rad_s > 0.0
                 && self.aligned
-                && (self.rest || self.gsl.quick_time > QUICK_SETTLE_S)
+                && (self.rest
+                    || self.gsl.quick_time > QUICK_SETTLE_S
+                    || self.gsl.held_time > QUICK_MIN_S)
             {
                 let f = if self.rest {
                     self.acc_mean
@@ -2500,6 +2557,14 @@ mod tests {
     /// 100 Hz, gyro and accelerometer noise), degrees; and the error when the
     /// rest began.
     fn rest_after_scaled_turn(params: DynamicParams) -> (f64, f64) {
+        let (end, start, _) = held_after_scaled_turn(params, 0.0);
+        (end, start)
+    }
+
+    /// [`rest_after_scaled_turn`] with the pose after the turn held, not
+    /// still: creeping on about x at `creep` rad/s; and whether the filter
+    /// took it for rest at the end.
+    fn held_after_scaled_turn(params: DynamicParams, creep: f64) -> (f64, f64, bool) {
         let dt = 0.01;
         let mut f = Dynamic::new(params);
         let mut noise = Noise(23);
@@ -2510,6 +2575,8 @@ mod tests {
             let w = if (10.0..12.0).contains(&t) {
                 let bump = (core::f64::consts::PI * (t - 10.0) / 2.0).sin().powi(2);
                 core::f64::consts::FRAC_PI_2 * bump
+            } else if t >= 12.0 {
+                creep
             } else {
                 0.0
             };
@@ -2523,7 +2590,30 @@ mod tests {
             }
             at_end = tilt_err(&f.attitude(), &q).to_degrees();
         }
-        (at_end, at_start)
+        (at_end, at_start, f.at_rest())
+    }
+
+    #[test]
+    fn a_held_pose_gets_the_rest_pull() {
+        // The turn of the test above, then the pose held in a hand rather
+        // than set down: it creeps on at 1°/s, over the 0.5°/s rest
+        // threshold, so no rest is declared (nor learnt as gyro bias). The
+        // specific force turns as the gyro says, so it is gravity alone, and
+        // the held pose gets the rest pull: without that (before, or with
+        // the pull off) 2.6° → 0.88° 5 s in, with it 0.41°.
+        let creep = 1f64.to_radians();
+        let off = held_after_scaled_turn(
+            DynamicParams {
+                rest_pull_rad_s: 0.0,
+                ..DynamicParams::default()
+            },
+            creep,
+        );
+        let on = held_after_scaled_turn(DynamicParams::default(), creep);
+        std::println!("off {off:?}°, on {on:?}° (5 s into the held pose, at its start)");
+        assert!(!off.2 && !on.2, "a creeping pose is not a rest");
+        assert!(off.1 > 1.0 && (on.1 - off.1).abs() < 0.01, "{off:?} {on:?}");
+        assert!(on.0 < 0.5 * off.0, "{on:?} against {off:?}");
     }
 
     #[test]
