@@ -366,6 +366,11 @@ pub struct Dynamic {
     arm: Option<InputSensitivity>,
     /// H of the next sample (body frame, 1/s²).
     arm_input: nalgebra::Matrix3<f64>,
+    /// H through the same low-pass and stillness mean as the specific force
+    /// (`acc_f`, `acc_mean`), while the lever arm is tracked: the rest pull
+    /// acts on the mean.
+    arm_input_f: nalgebra::Matrix3<f64>,
+    arm_input_mean: nalgebra::Matrix3<f64>,
     gsl: ScaleLearner,
 }
 
@@ -850,7 +855,9 @@ impl InputSensitivity {
     /// One sample of the loop, linearised about it and driven by the input
     /// offset A·δ (A = I for a constant offset; `drive_e`, `drive_n` are the
     /// E and N rows of R·A): δf = φ × f_nav + R·A·δ (horizontal),
-    /// δv ← (δv + δf·dt)·decay, δc = k·(δv_N, −δv_E) + ks·(δf_N, −δf_E),
+    /// δv ← (δv + δf·dt)·decay, δc = k·(δv_N, −δv_E) + ks·(δp_N, −δp_E) with
+    /// δp as δf for the specific force the pull acted on (`pull`: its E, N, U
+    /// and drive rows; the sample's own, or a rest's mean with H's mean),
     /// φ += δc, and the motion bias learning mapped the same way (Rᵀ·δc).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
@@ -859,6 +866,7 @@ impl InputSensitivity {
         drive_e: [f64; 3],
         drive_n: [f64; 3],
         f_nav: (f64, f64, f64),
+        pull: ((f64, f64, f64), [f64; 3], [f64; 3]),
         rows: &[[f64; 3]; 2],
         decay: f64,
         k: f64,
@@ -867,6 +875,7 @@ impl InputSensitivity {
         kb_over_kt: Option<f64>,
     ) {
         let (fe, fnn, fu) = f_nav;
+        let ((pe, pn, pu), pull_e, pull_n) = pull;
         for j in 0..3 {
             let (px, py, pz) = (self.phi[(0, j)], self.phi[(1, j)], self.phi[(2, j)]);
             let dfe = py * fu - pz * fnn + drive_e[j];
@@ -875,8 +884,11 @@ impl InputSensitivity {
             let dvn = (self.vel[(1, j)] + dfn * dt) * decay;
             self.vel[(0, j)] = dve;
             self.vel[(1, j)] = dvn;
-            let dcx = k * dvn + ks * dfn;
-            let dcy = -k * dve - ks * dfe;
+            // the pull's own specific force (the sample's, or a rest's mean)
+            let dpe = py * pu - pz * pn + pull_e[j];
+            let dpn = pz * pe - px * pu + pull_n[j];
+            let dcx = k * dvn + ks * dpn;
+            let dcy = -k * dve - ks * dpe;
             self.phi[(0, j)] = px + dcx;
             self.phi[(1, j)] = py + dcy;
             if let Some(kb) = kb_over_kt {
@@ -1010,6 +1022,8 @@ impl Dynamic {
             sens: None,
             arm: None,
             arm_input: nalgebra::Matrix3::zeros(),
+            arm_input_f: nalgebra::Matrix3::zeros(),
+            arm_input_mean: nalgebra::Matrix3::zeros(),
             gsl: ScaleLearner::new(),
         }
     }
@@ -1310,6 +1324,7 @@ impl AttitudeFilter for Dynamic {
                 self.gsl.active = false;
                 self.gyr_f = gyr;
                 self.acc_f = acc;
+                self.arm_input_f = self.arm_input;
                 self.gyr_lp = gyr;
                 self.initialised = true;
                 self.from_accel = true;
@@ -1362,6 +1377,10 @@ impl AttitudeFilter for Dynamic {
         // rest is judged on the rate and specific force low-passed at `vibration_tau_s`
         self.gyr_f += (gyr - self.gyr_f) * k_vib;
         self.acc_f += (acc - self.acc_f) * k_vib;
+        let arm_tracked = self.arm.is_some();
+        if arm_tracked {
+            self.arm_input_f += (self.arm_input - self.arm_input_f) * k_vib;
+        }
         let (gyr_f, acc_f) = (self.gyr_f, self.acc_f);
         self.gyr_lp += (gyr_f - self.gyr_lp) * self.inv.k_rest.max(mean_k);
         let w = (gyr - self.bias).component_mul(&(Vec3::repeat(1.0) - self.gsl.s));
@@ -1381,6 +1400,9 @@ impl AttitudeFilter for Dynamic {
         if self.still_time == 0.0 {
             self.rest_ref = self.bias;
             self.acc_mean = acc_f;
+            if arm_tracked {
+                self.arm_input_mean = self.arm_input_f;
+            }
         }
         let still = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
             && (acc_f - self.acc_mean).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
@@ -1388,6 +1410,9 @@ impl AttitudeFilter for Dynamic {
         if still {
             let k = self.inv.k_window.max(dt / (self.still_time + dt));
             self.acc_mean += (acc_f - self.acc_mean) * k;
+            if arm_tracked {
+                self.arm_input_mean += (self.arm_input_f - self.arm_input_mean) * k;
+            }
         }
         self.still_time = if still { self.still_time + dt } else { 0.0 };
         let was_rest = self.rest;
@@ -1612,6 +1637,12 @@ impl AttitudeFilter for Dynamic {
             if self.rest && !self.aligned {
                 pull = p.start_bandwidth_rad_s;
             }
+            // the specific force the pull acts on: this sample's, or at a rest
+            // the stillness's mean (a steady tilt error is removed at the same
+            // rate, while a translation that oscillates under the rest
+            // thresholds — an orbit of a test platform — averages out instead
+            // of being followed as tilt)
+            let mut f_pull = None;
             if p.rest_pull_rad_s > 0.0
                 && self.aligned
                 && (self.rest
@@ -1620,18 +1651,37 @@ impl AttitudeFilter for Dynamic {
             {
                 let f = if self.rest {
                     self.acc_mean
+                } else if self.gsl.quick_time > QUICK_SETTLE_S && self.gsl.quick_n > 0.0 {
+                    self.gsl.quick_mean
                 } else {
                     self.gsl.qa
                 };
                 // at most the whole disagreement in one step: a larger rate
                 // (the key allows up to 1e9 rad/s) would overshoot
                 let rest_pull = (p.rest_pull_rad_s * self.gsl.rest_trust(p, &f)).min(1.0 / dt);
-                pull = pull.max(rest_pull);
+                if rest_pull > pull {
+                    pull = rest_pull;
+                    // at a rest proper: the mean (a short rest and a held pose
+                    // pull on the sample's own specific force; a held pose
+                    // turns). The input sensitivities follow: a steady bias is
+                    // in the mean as in each sample, the lever arm's H·δr
+                    // through H's own mean (`arm_input_mean`)
+                    if self.rest {
+                        f_pull = Some(f);
+                    }
+                }
             }
             let ks = pull * dt * self.inv.gravity;
             if pull > 0.0 {
-                cx += ks * fnn;
-                cy -= ks * fe;
+                let (pe, pn) = match f_pull {
+                    Some(f) => (
+                        r00 * f.x + r01 * f.y + r02 * f.z,
+                        r10 * f.x + r11 * f.y + r12 * f.z,
+                    ),
+                    None => (fe, fnn),
+                };
+                cx += ks * pn;
+                cy -= ks * pe;
             }
             kc = (cx, cy);
             if self.sens.is_some() || self.arm.is_some() {
@@ -1642,17 +1692,38 @@ impl AttitudeFilter for Dynamic {
                 let learn = (p.learn_bias && kb_over_kt > 0.0 && self.time > p.start_time_s)
                     .then_some(kb_over_kt);
                 let f_nav = (fe, fnn, fu);
+                // what the pull acted on: this sample, or the rest's mean
+                let pull_nav = f_pull.map(|f| {
+                    let fu_m = 2.0 * (qx * qz - qw * qy) * f.x
+                        + 2.0 * (qy * qz + qw * qx) * f.y
+                        + (1.0 - 2.0 * (qx * qx + qy * qy)) * f.z;
+                    (
+                        r00 * f.x + r01 * f.y + r02 * f.z,
+                        r10 * f.x + r11 * f.y + r12 * f.z,
+                        fu_m,
+                    )
+                });
                 if let Some(sn) = &mut self.sens {
-                    sn.step(rows[0], rows[1], f_nav, &rows, decay, k, ks, dt, learn);
+                    let pull = (pull_nav.unwrap_or(f_nav), rows[0], rows[1]);
+                    sn.step(
+                        rows[0], rows[1], f_nav, pull, &rows, decay, k, ks, dt, learn,
+                    );
                 }
                 if let Some(sa) = &mut self.arm {
                     // the drive is R·H: rows E and N of the rotated lever input
-                    let h = &self.arm_input;
-                    let drive = |r: &[f64; 3]| {
+                    let drive = |h: &nalgebra::Matrix3<f64>, r: &[f64; 3]| {
                         [0, 1, 2].map(|j| r[0] * h[(0, j)] + r[1] * h[(1, j)] + r[2] * h[(2, j)])
                     };
-                    let (de, dn) = (drive(&rows[0]), drive(&rows[1]));
-                    sa.step(de, dn, f_nav, &rows, decay, k, ks, dt, learn);
+                    let h = &self.arm_input;
+                    let (de, dn) = (drive(h, &rows[0]), drive(h, &rows[1]));
+                    let pull = match pull_nav {
+                        Some(nav) => {
+                            let hm = &self.arm_input_mean;
+                            (nav, drive(hm, &rows[0]), drive(hm, &rows[1]))
+                        }
+                        None => (f_nav, de, dn),
+                    };
+                    sa.step(de, dn, f_nav, pull, &rows, decay, k, ks, dt, learn);
                 }
             }
         }
