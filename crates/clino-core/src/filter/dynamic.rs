@@ -227,7 +227,7 @@ pub struct DynamicParams {
     /// unchanged, 0.658° / 0.534°, at rest 1.18 → 1.09×; BENCHMARKS.md).
     /// The price: at one pose a steady acceleration and a tilt are the same
     /// reading, and a still gyro does not say the velocity is zero. A slow
-    /// translation taken for rest (0.15 m/s², read as 0.88°) reaches 0.65° of
+    /// translation taken for rest (0.15 m/s², read as 0.88°) reaches 0.66° of
     /// error instead of 0.41° with the pull off — VQF, whose accelerometer
     /// correction has this 3-s time constant at all times, 0.68° (test
     /// `coarse_alignment_ends_with_the_first_rest`); and without the mount
@@ -2257,7 +2257,7 @@ mod tests {
         // a later rest now only teaches the bias, and the tilt follows the
         // acceleration through the slow loop alone (0.42°).
         // With the rest pull off, 0.41°; with it on (the default, 0.3 rad/s)
-        // 0.65° — the trade-off documented at `rest_pull_rad_s`; VQF (vqf-rs
+        // 0.66° — the trade-off documented at `rest_pull_rad_s`; VQF (vqf-rs
         // on the same samples) reaches 0.68°.
         let (worst, at_rest) = translation_after_turn(DynamicParams {
             rest_pull_rad_s: 0.0,
