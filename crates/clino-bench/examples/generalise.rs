@@ -627,12 +627,15 @@ fn main() -> clino::Result<()> {
                 .file_name()
                 .map(|n| n.to_string_lossy().to_string())
                 .unwrap_or_default();
+            let k = r.len();
             println!(
-                "  {name:<44}vqf {:.3}  dynamic {:.3} ({:.2})  offline {:.3}",
+                "  {name:<44}vqf {:.3}  dynamic {:.3} ({:.2})  offline {:.3}  at rest: vqf {:.3} dynamic {:.3}",
                 r[0],
                 r[1],
                 r[1] / r[0],
-                r[5]
+                r[5],
+                r[k - 2],
+                r[k - 1]
             );
         }
         let label = format!("BROAD ({})", rows.len());
