@@ -622,6 +622,35 @@ mod filter_tests {
         assert!(c_on < 1.05 * c_off, "{c_on}° against {c_off}°");
     }
 
+    /// A pair from (nearly) every rest, the horizontal bias learnt the right
+    /// way, and the tilt better for it (`e_on` against `e_off` without the
+    /// bias learnt), after `moves` moves.
+    fn assert_bias_learnt_from_pairs(
+        d_on: &clino_core::filter::Dynamic,
+        truth: Vec3,
+        moves: f64,
+        e_on: f64,
+        e_off: f64,
+    ) {
+        let b = d_on.accel_bias();
+        println!(
+            "{} pairs in {moves:.0} moves, learnt {:?} mg: {e_on}° against {e_off}° without",
+            d_on.rest_pairs(),
+            b / (1e-3 * clino_core::G0),
+        );
+        assert!(
+            f64::from(d_on.rest_pairs()) > 0.8 * moves,
+            "{} pairs in {moves:.0} moves",
+            d_on.rest_pairs()
+        );
+        let (bh, th) = (b.xy(), truth.xy());
+        assert!(
+            bh.dot(&th) > 0.1 * th.norm_squared(),
+            "{bh:?} against {th:?}"
+        );
+        assert!(e_on < 0.95 * e_off, "{e_on}° against {e_off}°");
+    }
+
     #[test]
     fn one_second_rests_are_rest_pairs_too() {
         // The accelerometer bias of the test above, (7, −10, 5) mg, but the hand
@@ -639,24 +668,8 @@ mod filter_tests {
         let (model, truth, on, off) = biased_accelerometer();
         let (e_on, d_on) = run_hand_for(&hand, &model, on, 300.0);
         let (e_off, _) = run_hand_for(&hand, &model, off, 300.0);
-        let b = d_on.accel_bias();
         let moves = (300.0 - params.initial_rest_s) / (params.move_s + params.rest_s);
-        println!(
-            "{} pairs in {moves:.0} moves, learnt {:?} mg: {e_on}° against {e_off}° without",
-            d_on.rest_pairs(),
-            b / (1e-3 * clino_core::G0),
-        );
-        assert!(
-            f64::from(d_on.rest_pairs()) > 0.8 * moves,
-            "{} pairs",
-            d_on.rest_pairs()
-        );
-        let (bh, th) = (b.xy(), truth.xy());
-        assert!(
-            bh.dot(&th) > 0.1 * th.norm_squared(),
-            "{bh:?} against {th:?}"
-        );
-        assert!(e_on < 0.95 * e_off, "{e_on}° against {e_off}°");
+        assert_bias_learnt_from_pairs(&d_on, truth, moves, e_on, e_off);
     }
 
     #[test]
@@ -733,24 +746,8 @@ mod filter_tests {
         };
         let (e_on, d_on) = run(on);
         let (e_off, _) = run(off);
-        let b = d_on.accel_bias();
         let moves = (seconds - params.initial_rest_s) / (params.move_s + params.rest_s);
-        println!(
-            "{} pairs in {moves:.0} moves, learnt {:?} mg: {e_on}° against {e_off}° without",
-            d_on.rest_pairs(),
-            b / (1e-3 * clino_core::G0),
-        );
-        assert!(
-            f64::from(d_on.rest_pairs()) > 0.8 * moves,
-            "{} pairs in {moves:.0} moves",
-            d_on.rest_pairs()
-        );
-        let (bh, th) = (b.xy(), truth.xy());
-        assert!(
-            bh.dot(&th) > 0.1 * th.norm_squared(),
-            "{bh:?} against {th:?}"
-        );
-        assert!(e_on < 0.95 * e_off, "{e_on}° against {e_off}°");
+        assert_bias_learnt_from_pairs(&d_on, truth, moves, e_on, e_off);
     }
 
     #[test]
