@@ -188,19 +188,10 @@ fn simulate(
     }
 }
 
-/// `rec` with its rests marked: the scored samples at which `motion` (the
-/// carrying motion, without the vibration riding on it) is still.
-fn with_rests(mut rec: Rec, motion: &dyn Motion) -> Rec {
-    for (k, s) in rec.samples.iter().enumerate() {
-        let t = motion.truth(s.t_s);
-        rec.rest[k] = rec.scored[k] && t.gyr_rad_s.norm() < 1e-9 && t.acc_m_s2.norm() < 1e-9;
-    }
-    rec
-}
-
-/// Marks the rests of a held hand motion ([`HandMotion::at_rest`]: the
-/// clock creeping, the hand holding a pose) as the rests to score at rest.
-fn held_rests(mut rec: Rec, motion: &HandMotion) -> Rec {
+/// `rec` with its rests marked: the scored samples at which the hand motion
+/// (the carrying motion, without the vibration riding on it) is at rest
+/// ([`HandMotion::at_rest`]: stopped, or for a held hand creeping on).
+fn with_rests(mut rec: Rec, motion: &HandMotion) -> Rec {
     for (k, s) in rec.samples.iter().enumerate() {
         rec.rest[k] = rec.scored[k] && motion.at_rest(s.t_s);
     }
@@ -356,7 +347,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     b: vibration(9.0, 1f64.to_radians(), Vec3::new(0.1, 0.08, 0.06)),
                 };
                 let rec = simulate(&m, &model, c.rate, seconds, seed, from, None);
-                return held_rests(rec, &hand);
+                return with_rests(rec, &hand);
             }
             if let Kind::SlowVib = c.kind {
                 let f = (0.35 * c.rate).min(30.0);
