@@ -417,6 +417,12 @@ struct ScaleLearner {
     pairs: u32,
     /// 1σ of (s, d, b) from the last update ([`model_average`]).
     sd: V9,
+    /// Σ|y|² of the observations (as `g`, relative to no errors) and their
+    /// number, for the noise estimate ([`pair_noise`]).
+    yy: f64,
+    nobs: f64,
+    /// The observation noise r² in use ([`pair_noise`]).
+    r2: f64,
     /// Rate and specific force through two low-passes at [`QUICK_TAU_S`]
     /// (`qg1`, `qa1` the first).
     qg: Vec3,
@@ -452,7 +458,8 @@ const REST_LEARNT_S: f64 = 0.5;
 const SCALE_SEGMENT_MAX_S: f64 = 60.0;
 /// Largest miss of the gravity directions that is used, rad (20°).
 const SCALE_MISS_MAX_RAD: f64 = 0.35;
-/// 1σ of one observation, rad (1.1°): the error of the gravity direction at
+/// Prior 1σ of one observation, rad (1.1°), until the pairs show their own
+/// ([`pair_noise`], pooled at [`PAIR_NOISE_PRIOR_DOF`]): the error of the gravity direction at
 /// a rest that the model leaves out, dominated by the accelerometer's
 /// cross-axis sensitivity (±2 % for an MPU6050, datasheet: it turns the
 /// direction by up to 0.02 rad, differently at each pose; a bias cancels
@@ -463,7 +470,10 @@ const SCALE_MISS_MAX_RAD: f64 = 0.35;
 /// grid (BENCHMARKS.md): 0.03 (the value while only the gyro was learnt)
 /// learnt ±5 % of accelerometer error only to a third (0.90× VQF); 0.01–0.015
 /// took noise of the slow motion with vibration for scale (0.87× → 0.91–0.94×
-/// VQF, worst 1.22×).
+/// VQF, worst 1.22×). Estimated from the pairs instead of held, the same
+/// grid's accelerometer-bias rows went from 0.86–0.94× to 0.79–0.89× VQF,
+/// cross-axis 1.5 % from 0.81× to 0.75×, ±5 % from 0.73× to 0.68×, BROAD
+/// unchanged.
 const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 
 /// Time constant of each of the two cascaded low-passes on which short
@@ -614,6 +624,67 @@ fn model_average(a: &M9, g: &V9, r2: f64, lam: &V9, on: [bool; 3]) -> Option<(V9
     (x.iter().chain(sd.iter()).all(|v| v.is_finite())).then_some((x, p, sd))
 }
 
+/// Prior weight of [`SCALE_OBS_NOISE_RAD`] in the noise estimate, in
+/// observation components (two per rest pair: the third, along gravity, is
+/// second order).
+const PAIR_NOISE_PRIOR_DOF: f64 = 4.0;
+/// Least observation noise the estimate goes down to, rad: the rest's sway
+/// and the gyro bias error's drift over a move ([`SCALE_OBS_NOISE_RAD`]).
+const PAIR_NOISE_MIN_RAD: f64 = 0.002;
+/// Largest, rad: a pair that misses by more is not used ([`SCALE_MISS_MAX_RAD`]).
+const PAIR_NOISE_MAX_RAD: f64 = 0.1;
+
+/// The noise r² of one rest-pair observation, estimated from the pairs
+/// themselves: the residual of the regularised fit with every learnt group
+/// in, Σ|y|² − gᵀ(A + Λ)⁻¹g (the residual sum of squares plus the penalty
+/// x̂ᵀΛx̂: a little above the residual, never below), over its degrees of freedom (two per pair less
+/// the effective number of parameters, tr A(A + Λ)⁻¹), pooled with the prior
+/// [`SCALE_OBS_NOISE_RAD`]² at [`PAIR_NOISE_PRIOR_DOF`]. `lam` is Λ at the
+/// noise in use `r2`.
+///
+/// Why: the prior 0.02 rad is what an MPU6050's cross-axis sensitivity
+/// leaves; a sensor without it (or with it calibrated) leaves ten times
+/// less, and a bias of 10 mg, 0.01 rad of direction, then waited for tens
+/// of pairs before its evidence outweighed that noise. The noise a sensor
+/// does leave is measured rather than assumed: a sensor with cross-axis
+/// errors keeps r near the prior (or above it), one without them lets its
+/// pairs count for what they are.
+fn pair_noise(a: &M9, g: &V9, yy: f64, nobs: f64, lam: &V9, r2: f64, on: [bool; 3]) -> f64 {
+    let r0 = SCALE_OBS_NOISE_RAD * SCALE_OBS_NOISE_RAD;
+    let inside = |i: usize| on[i / 3];
+    let mut reg = M9::identity();
+    let mut gm = V9::zeros();
+    for i in (0..9).filter(|&i| inside(i)) {
+        gm[i] = g[i];
+        for j in (0..9).filter(|&j| inside(j)) {
+            reg[(i, j)] = a[(i, j)];
+        }
+        reg[(i, i)] += lam[i];
+    }
+    let Some(ch) = reg.cholesky() else {
+        return r2;
+    };
+    let x = ch.solve(&gm);
+    let ssr = (yy - gm.dot(&x)).max(0.0);
+    // effective parameters: Σ over the learnt ones of 1 − λᵢ·((A + Λ)⁻¹)ᵢᵢ
+    let inv = ch.inverse();
+    let params: f64 = (0..9)
+        .filter(|&i| inside(i))
+        .map(|i| 1.0 - lam[i] * inv[(i, i)])
+        .sum();
+    let dof = (2.0 * nobs - params).max(0.0);
+    let est = (PAIR_NOISE_PRIOR_DOF * r0 + ssr) / (PAIR_NOISE_PRIOR_DOF + dof);
+    let (lo, hi) = (
+        PAIR_NOISE_MIN_RAD * PAIR_NOISE_MIN_RAD,
+        PAIR_NOISE_MAX_RAD * PAIR_NOISE_MAX_RAD,
+    );
+    if est.is_finite() {
+        est.clamp(lo, hi)
+    } else {
+        r2
+    }
+}
+
 /// The attitude step over one sample period: the rotation whose vector is
 /// φ = ω·dt + (ω_prev × ω)·dt²/12, exactly (no small-angle truncation).
 ///
@@ -708,6 +779,9 @@ impl ScaleLearner {
             p: [0.5; 3],
             pairs: 0,
             sd: V9::zeros(),
+            yy: 0.0,
+            nobs: 0.0,
+            r2: SCALE_OBS_NOISE_RAD * SCALE_OBS_NOISE_RAD,
             qg: Vec3::zeros(),
             qa: Vec3::zeros(),
             qg1: Vec3::zeros(),
@@ -757,27 +831,28 @@ impl ScaleLearner {
             let y = c * u_now - l.u0;
             if y.norm() < SCALE_MISS_MAX_RAD {
                 let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
-                let r = SCALE_OBS_NOISE_RAD;
-                let mut lam = V9::repeat(1.0);
+                // the prior variance of each error, per group (0: not learnt)
+                let mut prior = V9::zeros();
                 if p.gyro_scale_sigma > 0.0 {
                     let hg = -l.u0.cross_matrix() * j;
                     h.fixed_view_mut::<3, 3>(0, 0).copy_from(&hg);
-                    let lg = (r / p.gyro_scale_sigma) * (r / p.gyro_scale_sigma);
-                    lam.fixed_rows_mut::<3>(0).fill(lg);
+                    prior
+                        .fixed_rows_mut::<3>(0)
+                        .fill(p.gyro_scale_sigma * p.gyro_scale_sigma);
                 }
                 if p.accel_scale_sigma > 0.0 {
                     let ha = c.matrix() * direction_per_scale(&u_now) - direction_per_scale(&l.u0);
                     h.fixed_view_mut::<3, 3>(0, 3).copy_from(&ha);
-                    let la = (r / p.accel_scale_sigma) * (r / p.accel_scale_sigma);
-                    lam.fixed_rows_mut::<3>(3).fill(la);
+                    prior
+                        .fixed_rows_mut::<3>(3)
+                        .fill(p.accel_scale_sigma * p.accel_scale_sigma);
                 }
                 let (n0, n1) = (l.f0.norm(), f_now.norm());
                 if bias_sigma > 0.0 && n0 > 0.0 {
                     let hb =
                         c.matrix() * direction_per_bias(&u_now, n1) - direction_per_bias(&l.u0, n0);
                     h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
-                    let lb = (r / bias_sigma) * (r / bias_sigma);
-                    lam.fixed_rows_mut::<3>(6).fill(lb);
+                    prior.fixed_rows_mut::<3>(6).fill(bias_sigma * bias_sigma);
                 }
                 let mut used = V9::zeros();
                 used.fixed_rows_mut::<3>(0).copy_from(&l.s);
@@ -786,12 +861,19 @@ impl ScaleLearner {
                 let y1 = y + h * used;
                 l.a += h.transpose() * h;
                 l.g += h.transpose() * y1;
+                l.yy += y1.norm_squared();
+                l.nobs += 1.0;
                 let on = [
                     p.gyro_scale_sigma > 0.0,
                     p.accel_scale_sigma > 0.0,
                     bias_sigma > 0.0 && n0 > 0.0,
                 ];
-                if let Some((x_new, pg, sd)) = model_average(&l.a, &l.g, r * r, &lam, on) {
+                // Λ = diag(r²/σ₀²); a group not learnt keeps λ = 1 (not used)
+                let lam_for = |r2: f64| prior.map(|v| if v > 0.0 { r2 / v } else { 1.0 });
+                let r2 = pair_noise(&l.a, &l.g, l.yy, l.nobs, &lam_for(l.r2), l.r2, on);
+                l.r2 = r2;
+                let lam = lam_for(r2);
+                if let Some((x_new, pg, sd)) = model_average(&l.a, &l.g, r2, &lam, on) {
                     l.p = pg;
                     l.sd = sd;
                     l.pairs = l.pairs.saturating_add(1);
@@ -1231,6 +1313,12 @@ impl Dynamic {
     pub fn sensor_error_sigmas(&self) -> (Vec3, Vec3, Vec3) {
         let v = |k: usize| Vec3::new(self.gsl.sd[k], self.gsl.sd[k + 1], self.gsl.sd[k + 2]);
         (v(0), v(3), v(6))
+    }
+
+    /// The noise of one rest-pair observation the learner now assumes, rad:
+    /// [`SCALE_OBS_NOISE_RAD`] until pairs show their own ([`pair_noise`]).
+    pub fn pair_noise_rad(&self) -> f64 {
+        sqrt(self.gsl.r2)
     }
 
     /// The number of rest pairs (two rests with a motion between) the
@@ -2155,6 +2243,59 @@ mod tests {
         let (x, p, _) =
             model_average(&M9::identity(), &y, r * r, &lam, [true, true, false]).unwrap();
         assert!(p[2] == 0.0 && x.fixed_rows::<3>(6).norm() == 0.0 && p[0] > 0.5);
+    }
+
+    #[test]
+    fn pair_noise_is_the_residual_of_the_pairs_fit() {
+        // Pairs y = H·x + n with n of a known 1σ per component, H of the size
+        // a pair's Jacobians have (≈ 0.3 per unit error), x a true error set:
+        // the estimate is the residual noise, pooled with the prior 0.02 rad
+        // at 4 components, and does not take the errors' own signal for noise.
+        let mut noise = Noise(5);
+        let x = V9::from_column_slice(&[0.01, -0.02, 0.01, 0.03, -0.02, 0.01, 0.07, -0.1, 0.05]);
+        let s0 = 0.02;
+        let on = [true; 3];
+        for sigma in [0.004, 0.01, 0.04] {
+            let (mut a, mut g, mut yy, mut r2) = (M9::zeros(), V9::zeros(), 0.0, s0 * s0);
+            let n = 200;
+            for k in 1..=n {
+                // a pair's miss is across gravity: two components (the third
+                // is second order), here the first two
+                let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
+                for v in h.fixed_rows_mut::<2>(0).iter_mut() {
+                    *v = 0.3 * noise.gauss();
+                }
+                let y = h * x + Vector3::new(noise.gauss(), noise.gauss(), 0.0) * sigma;
+                a += h.transpose() * h;
+                g += h.transpose() * y;
+                yy += y.norm_squared();
+                // as the learner does: Λ at the noise in use, prior 1σ 0.1
+                let lam = V9::repeat(r2 / 0.01);
+                r2 = pair_noise(&a, &g, yy, f64::from(k), &lam, r2, on);
+            }
+            // σ² over 2n − 9 degrees of freedom, pooled with 4·(0.02)²
+            let dof = 2.0 * f64::from(n) - 9.0;
+            let expect = ((4.0 * s0 * s0 + sigma * sigma * dof) / (4.0 + dof)).sqrt();
+            let got = r2.sqrt();
+            std::println!("σ {sigma}: {got} rad against {expect}");
+            assert!(
+                (got / expect - 1.0).abs() < 0.1,
+                "σ {sigma}: {got} against {expect}"
+            );
+        }
+        // no pairs yet, or the fit impossible: the noise in use
+        assert_eq!(
+            pair_noise(
+                &M9::zeros(),
+                &V9::zeros(),
+                0.0,
+                0.0,
+                &V9::repeat(f64::NAN),
+                1e-4,
+                on
+            ),
+            1e-4
+        );
     }
 
     /// Seconds from the end of a 1-rad/s turn (5 s of rest first, 100 Hz)

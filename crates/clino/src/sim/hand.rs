@@ -600,17 +600,21 @@ mod filter_tests {
             d_on.accel_scale()
         );
         assert_eq!(d_off.accel_bias(), Vec3::zeros());
-        // learnt in part: one pair's direction miss from 12 mg across gravity is
-        // ≈ 0.005 rad, a quarter of the 0.02 rad a pair is trusted to (the
-        // cross-axis sensitivity of a real MPU6050 is not modelled), so after 25
-        // pairs the evidence has taken it to about a sixth, the right way
+        // One pair's direction miss from 12 mg across gravity is ≈ 0.005 rad.
+        // Trusted to the prior 0.02 rad a pair (what an MPU6050's cross-axis
+        // sensitivity leaves, not modelled here), 25 pairs took the bias only
+        // to about a sixth (|Δb| 0.83 of |b|, 0.95× the tilt error without).
+        // The pairs' own residual says this sensor leaves ≈ 0.005 rad, and at
+        // that noise they learn it to within a fifth.
         let (bh, th) = (b.xy(), truth.xy());
-        assert!(
-            bh.dot(&th) > 0.1 * th.norm_squared(),
-            "{bh:?} against {th:?}"
+        let r = d_on.pair_noise_rad();
+        println!(
+            "pair noise {r} rad, |Δb_xy| {}",
+            (bh - th).norm() / th.norm()
         );
-        assert!((bh - th).norm() < 0.9 * th.norm(), "{bh:?} against {th:?}");
-        assert!(e_on < 0.95 * e_off, "{e_on}° against {e_off}°");
+        assert!(r < 0.5 * 0.02, "{r} rad");
+        assert!((bh - th).norm() < 0.3 * th.norm(), "{bh:?} against {th:?}");
+        assert!(e_on < 0.8 * e_off, "{e_on}° against {e_off}°");
         // a calibrated accelerometer learns (nearly) nothing
         let cal = crate::sim::slewing::sensor().with_bandwidth(40.0);
         let (c_on, dc) = run_hand_for(&hand, &cal, on, 300.0);
