@@ -5,7 +5,7 @@
 //!
 //! ```text
 //! cargo run --release -p clino-bench --example generalise -- [--seeds N] [--only TEXT]
-//!     [--dynamic SPEC] [--broad DIR] [--no-broad]
+//!     [--dynamic SPEC] [--broad DIR] [--no-broad] [--export DIR]
 //! ```
 //!
 //! For each condition it prints VQF's mean inclination RMSE (BROAD's metric,
@@ -24,12 +24,20 @@
 //! vibration riding on it goes on), and BROAD's non-movement samples after
 //! its first movement. A steady offset the loop leaves at rest (the unseen
 //! chain's failure mode) shows there, where the whole-run RMSE averages it away.
+//!
+//! `--export DIR` also writes every simulated recording but the slewing
+//! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
+//! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
+//! scored samples, `rest`), bit-exact (shortest round-trip floats), and
+//! `DIR/index.csv` with this harness's scores of each: what
+//! `scripts/offline_vqf_grid.py DIR` puts beside PyPI `vqf`'s offline
+//! smoother (which `vqf-rs` does not have), condition by condition.
 
 use clino::core::compensate::{LeverArm, MountOptions};
 use clino::core::{Attitude, ImuSample, Vec3};
 use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
-use clino::io::{ImuCsvReader, ReadOptions};
+use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams};
 use clino::sim::motion::{Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
@@ -477,12 +485,69 @@ fn print_rest_table(rows: &[(String, Vec<Vec<f64>>)]) {
     }
 }
 
+/// Write `rec` as a BROAD-format CSV at `path` (`--export`).
+fn export_recording(path: &std::path::Path, rec: &Rec) -> clino::Result<()> {
+    let io =
+        |e: std::io::Error| clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(path);
+    let f = std::fs::File::create(path).map_err(io)?;
+    let mut w = CsvLineWriter::new(f);
+    w.header(&[
+        "t_s",
+        "gyr_x_rad_s",
+        "gyr_y_rad_s",
+        "gyr_z_rad_s",
+        "acc_x_m_s2",
+        "acc_y_m_s2",
+        "acc_z_m_s2",
+        "ref_qw",
+        "ref_qx",
+        "ref_qy",
+        "ref_qz",
+        "movement",
+        "rest",
+    ])
+    .map_err(io)?;
+    for (k, s) in rec.samples.iter().enumerate() {
+        w.f64(s.t_s);
+        for v in s.gyr_rad_s.iter().chain(s.acc_m_s2.iter()) {
+            w.f64(*v);
+        }
+        let q = rec.truth[k].map_or([f64::NAN; 4], |t| {
+            let q = t.quaternion();
+            [q.w, q.i, q.j, q.k]
+        });
+        for v in q {
+            w.f64(v);
+        }
+        w.str(if rec.scored[k] { "1" } else { "0" });
+        w.str(if rec.rest[k] { "1" } else { "0" });
+        w.end_row().map_err(io)?;
+    }
+    w.finish().map(drop).map_err(io)
+}
+
+/// The file name of a condition's recording: its name with every character
+/// that is not a letter, digit, `.` or `-` replaced by `_`.
+fn export_name(condition: &str, seed: u64) -> String {
+    let slug: String = condition
+        .chars()
+        .map(|c| match c {
+            '±' => "pm".to_string(),
+            '%' => "pc".to_string(),
+            c if c.is_ascii_alphanumeric() || c == '.' || c == '-' => c.to_string(),
+            _ => "_".to_string(),
+        })
+        .collect();
+    format!("{slug}_s{seed}.csv")
+}
+
 fn main() -> clino::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut seeds = 3u64;
     let mut only: Option<String> = None;
     let mut dynamic = FilterSpec::default();
     let mut broad = clino_bench::broad_dir();
+    let mut export: Option<PathBuf> = None;
     let mut i = 0;
     while i < args.len() {
         let val = || {
@@ -513,6 +578,10 @@ fn main() -> clino::Result<()> {
                 i += 1;
             }
             "--no-broad" => broad = None,
+            "--export" => {
+                export = Some(PathBuf::from(val()?));
+                i += 1;
+            }
             other => {
                 return Err(clino::Error::new(
                     clino::ErrorKind::InvalidInput,
@@ -592,15 +661,56 @@ fn main() -> clino::Result<()> {
         println!();
     };
     let mut rest_rows: Vec<(String, Vec<Vec<f64>>)> = Vec::new();
+    let mut index = match &export {
+        Some(d) => {
+            let io = |e: std::io::Error| {
+                clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(d)
+            };
+            std::fs::create_dir_all(d).map_err(io)?;
+            let f = std::fs::File::create(d.join("index.csv")).map_err(io)?;
+            let mut w = CsvLineWriter::new(f);
+            w.header(&[
+                "file",
+                "condition",
+                "seed",
+                "vqf_rs_deg",
+                "dynamic_deg",
+                "offline_deg",
+                "vqf_rs_rest_deg",
+                "dynamic_rest_deg",
+            ])
+            .map_err(io)?;
+            Some(w)
+        }
+        None => None,
+    };
     for c in &conditions {
         if let Some(o) = &only
             && !c.name.contains(o.as_str())
         {
             continue;
         }
-        let rows: Vec<Vec<f64>> = (0..seeds)
-            .map(|s| score(&make(c, s + 1), &filters, &dynamic))
-            .collect();
+        let mut rows: Vec<Vec<f64>> = Vec::new();
+        for seed in 1..=seeds {
+            let rec = make(c, seed);
+            let r = score(&rec, &filters, &dynamic);
+            if let (Some(d), Some(w), false) = (&export, &mut index, rec.lever.is_some()) {
+                let name = export_name(&c.name, seed);
+                export_recording(&d.join(&name), &rec)?;
+                let k = r.len();
+                w.str(&name);
+                // quoted: condition names hold commas ("hand,held@…")
+                w.str(&format!("\"{}\"", c.name));
+                w.f64(seed as f64);
+                for v in [r[0], r[1], r[5], r[k - 2], r[k - 1]] {
+                    w.f64(v);
+                }
+                w.end_row().map_err(|e| {
+                    clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(d)
+                })?;
+            }
+            rows.push(r);
+        }
         let label = format!("{} ({seeds})", c.name);
         print_row(&label, &rows, &mut all_ratio);
         rest_rows.push((label, rows));
@@ -632,6 +742,10 @@ fn main() -> clino::Result<()> {
         let label = format!("BROAD ({})", rows.len());
         print_row(&label, &rows, &mut all_ratio);
         rest_rows.push((label, rows));
+    }
+    if let (Some(d), Some(w)) = (&export, index) {
+        w.finish()
+            .map_err(|e| clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(d))?;
     }
     print_rest_table(&rest_rows);
     if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
