@@ -25,7 +25,14 @@
 //! 6. a whole-record refinement uses the mount's bounded velocity and
 //!    position (from the specific force corrected as in 4):
 //!    [`refine_bounded_motion`], a Kalman/Rauch–Tung–Striebel smoother on
-//!    the remaining tilt error (skip it for travelling mounts).
+//!    the remaining tilt error (skip it for travelling mounts), under two
+//!    models of how that error evolves, whose smoothed corrections are
+//!    averaged: the passes' tilt corrections are right and what remains is
+//!    a slow Gauss–Markov error (the residual model), or the gyro is right
+//!    (its rate less the smoothed bias, with the gyro scale factors the
+//!    second forward pass learnt) up to a slow random walk, so that every
+//!    correction the passes made beyond the gyro is itself an error unless
+//!    the bounded motion confirms it (the gyro model, [`BoundedMotion::gyro_weight`]).
 //!
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
@@ -80,6 +87,27 @@ pub struct BoundedMotion {
     /// Rate at which the velocity and position bounds are imposed, Hz. Default 10 Hz
     /// (about the inverse correlation time of hand and machine motion).
     pub constraint_rate_hz: f64,
+    /// Random walk of the tilt the gyro alone carries, rad/√s, in the gyro
+    /// model: what the smoothed bias and the learnt scale factors leave of
+    /// the gyro's error. Default 1e-3 rad/√s (0.057°/√s, 0.18° over 10 s):
+    /// an MPU6050-class gyro's residual bias after rest-to-rest smoothing,
+    /// ≈ 0.01°/s over the ≈ 10 s between rests, (1.7e-4 rad/s)²·10 s =
+    /// 3e-7 rad²/s, its white noise (0.005°/s/√Hz: 8e-9 rad²/s) and the
+    /// cross-axis and g-sensitivity terms no model here holds. Measured
+    /// (BENCHMARKS.md): 1e-7 to 1e-5 rad²/s move the simulated grid and
+    /// BROAD by less than 0.01°.
+    pub gyro_walk_rad_sqrt_s: f64,
+    /// Weight of the gyro model in the refinement, 0–1; the residual model
+    /// has the rest. Default 1/2: an equal-weight pool of the two smoothed
+    /// corrections. Each model is right on some sensors: the gyro model on a
+    /// well-calibrated gyro (simulated hand motion, offline error 0.126° →
+    /// 0.069° alone, where the passes' loop corrections are mostly the
+    /// mount's acceleration), the residual model on a gyro shaken at 5 g
+    /// (BROAD trial 15: 0.45° against 0.55°). The bounded-motion likelihood
+    /// of the two was measured to pick the better one no more often than
+    /// not, so neither is chosen: 0 gives the residual model alone (the
+    /// refinement before 4 Dec 2026), 1 the gyro model alone.
+    pub gyro_weight: f64,
 }
 
 impl Default for BoundedMotion {
@@ -90,6 +118,8 @@ impl Default for BoundedMotion {
             tilt_sigma_rad: 0.5f64.to_radians(),
             tilt_tau_s: 10.0,
             constraint_rate_hz: 10.0,
+            gyro_walk_rad_sqrt_s: 1e-3,
+            gyro_weight: 0.5,
         }
     }
 }
@@ -377,6 +407,12 @@ fn smooth_compensated(
         .filter()
         .as_dynamic()
         .map(|d| (d.accel_scale(), d.accel_bias()));
+    // the gyro scale factors it learnt, for the refinement's gyro model only
+    // (where it is one of two models pooled, [`BoundedMotion::gyro_weight`])
+    let gyro_scale = fc
+        .filter()
+        .as_dynamic()
+        .map_or_else(Vec3::zeros, |d| d.gyro_scale());
     let with_errs = |mut p: Pipeline| {
         if let (Some((d, b)), Some(f)) = (acc_errs, p.filter_mut().as_dynamic_mut()) {
             f.set_sensor_errors(Vec3::zeros(), d, b);
@@ -394,12 +430,18 @@ fn smooth_compensated(
     run(5, true, &mut fe, Some(&bs), &mut |i, f| {
         q[i] = combine(&q[i], &f.filter().attitude())
     });
-    drop((bs, t));
+    drop(t);
+    let beyond = match &opts.refine {
+        Some(b) if b.gyro_weight > 0.0 => Some(beyond_gyro(&q, gyr, &bs, &gyro_scale, dt)),
+        _ => None,
+    };
+    drop(bs);
     if let Some(b) = &opts.refine {
         refine_in_place(
             &mut q,
             acc,
             acc_errs,
+            beyond.as_deref(),
             dt,
             b,
             opts.params.gravity_m_s2,
@@ -407,6 +449,43 @@ fn smooth_compensated(
         );
     }
     q
+}
+
+/// The tilt corrections an attitude sequence `q` made beyond the gyro, per
+/// sample, in the form [`rts_axis`] takes them: for e_k, the rotation vector
+/// of q_k ⊗ (q_{k−1} ⊗ Δq_k)*, where Δq_k is the gyro's step over the
+/// interval ending at sample k (rate (ω − b_k)·(1 − s), the two-sample coning
+/// term as in the filter), the entries (−e_N, e_E): the steps of the tilt
+/// error states (δ_N, −δ_E) of the refinement when the gyro is right.
+/// Unusable samples (non-finite rate, dt ≤ 0) contribute nothing. Stored as
+/// `f32` (a step is below 0.1 rad; 7 digits are far below any sensor's).
+fn beyond_gyro(
+    q: &[Attitude],
+    gyr: &[Vec3],
+    bias: &[Vec3],
+    scale: &Vec3,
+    dt: &[f64],
+) -> Vec<[f32; 2]> {
+    let n = q.len().min(gyr.len()).min(bias.len()).min(dt.len());
+    let one_s = Vec3::repeat(1.0) - scale;
+    let mut out = vec![[0.0f32; 2]; n];
+    let mut w_prev: Option<Vec3> = None;
+    for k in 0..n {
+        let w = (gyr[k] - bias[k]).component_mul(&one_s);
+        if !(w.iter().all(|v| v.is_finite()) && dt[k].is_finite() && dt[k] > 0.0) {
+            continue;
+        }
+        if let (Some(wp), true) = (w_prev, k > 0) {
+            let phi = (w + wp.cross(&w) * (dt[k] / 12.0)) * dt[k];
+            let pred = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
+            let e = (q[k] * pred.inverse()).scaled_axis();
+            if e.iter().all(|v| v.is_finite()) {
+                out[k] = [-e.y as f32, e.x as f32];
+            }
+        }
+        w_prev = Some(w);
+    }
+    out
 }
 
 /// The forward attitude turned (in the body) so that its up vector becomes
@@ -451,17 +530,21 @@ pub fn refine_bounded_motion(
     g: f64,
 ) -> Vec<Attitude> {
     let mut out = q.to_vec();
-    refine_in_place(&mut out, acc, None, dt, b, g, None);
+    refine_in_place(&mut out, acc, None, None, dt, b, g, None);
     out
 }
 
 /// [`refine_bounded_motion`] writing over `q`; with `fix` = (d, b) the
 /// specific force used is f·(1 − d) − b (the accelerometer's learnt scale
-/// errors and bias, [`clino_core::filter::Dynamic::set_sensor_errors`]).
+/// errors and bias, [`clino_core::filter::Dynamic::set_sensor_errors`]); with
+/// `beyond` (from [`beyond_gyro`]) the gyro model is pooled with the residual
+/// model at [`BoundedMotion::gyro_weight`].
+#[allow(clippy::too_many_arguments)]
 fn refine_in_place(
     q: &mut [Attitude],
     acc: &[Vec3],
     fix: Option<(Vec3, Vec3)>,
+    beyond: Option<&[[f32; 2]]>,
     dt: &[f64],
     b: &BoundedMotion,
     g: f64,
@@ -492,29 +575,91 @@ fn refine_in_place(
             0.0
         }
     };
-    // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E)
-    let d_n = rts_axis(n, |k| force(q, k, 0), h, b, g);
-    tick(&mut progress, Stage::Refine, n / 2, n);
-    let d_e_neg = rts_axis(n, |k| force(q, k, 1), h, b, g);
+    // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E): the
+    // smoothed (δ_N, −δ_E), pooled over the models ([`BoundedMotion::gyro_weight`])
+    let w = match beyond {
+        Some(u) if u.len() >= n => b.gyro_weight.clamp(0.0, 1.0),
+        _ => 0.0,
+    };
+    let mut d = vec![[0.0f32; 2]; n];
+    for axis in 0..2 {
+        if w < 1.0 {
+            rts_axis(
+                n,
+                |k| force(q, k, axis),
+                h,
+                b,
+                g,
+                TiltModel::Residual,
+                |k, v| d[k][axis] += ((1.0 - w) * v) as f32,
+            );
+        }
+        if let (Some(u), true) = (beyond, w > 0.0) {
+            rts_axis(
+                n,
+                |k| force(q, k, axis),
+                h,
+                b,
+                g,
+                TiltModel::Gyro(&|k| f64::from(u[k][axis])),
+                |k, v| d[k][axis] += (w * v) as f32,
+            );
+        }
+        tick(&mut progress, Stage::Refine, n * (axis + 1) / 2, n);
+    }
     for k in 0..n {
-        let c = Vec3::new(-d_e_neg[k], d_n[k], 0.0);
+        let c = Vec3::new(-f64::from(d[k][1]), f64::from(d[k][0]), 0.0);
         if c.iter().all(|v| v.is_finite()) {
             q[k] = UnitQuaternion::from_scaled_axis(c) * q[k];
         }
     }
-    tick(&mut progress, Stage::Refine, n, n);
 }
 
-/// The state transition of [`rts_axis`] over an interval `hk`.
-fn transition(hk: f64, b: &BoundedMotion, g: f64) -> (nalgebra::Matrix3<f64>, f64) {
-    let phi = (-hk / b.tilt_tau_s).exp();
+/// How the remaining tilt error d of one axis evolves in [`rts_axis`].
+#[derive(Clone, Copy)]
+enum TiltModel<'a> {
+    /// The residual model: d is a Gauss–Markov process of 1σ
+    /// [`BoundedMotion::tilt_sigma_rad`] and correlation time
+    /// [`BoundedMotion::tilt_tau_s`] (the estimate's own tilt corrections
+    /// are right).
+    Residual,
+    /// The gyro model: d_k = d_{k−1} + u_k + w_k with u_k the estimate's
+    /// step beyond the gyro ([`beyond_gyro`]) and Var w_k =
+    /// [`BoundedMotion::gyro_walk_rad_sqrt_s`]²·h_k; d starts with 1σ
+    /// [`BoundedMotion::tilt_sigma_rad`].
+    Gyro(&'a dyn Fn(usize) -> f64),
+}
+
+/// The state transition of [`rts_axis`] over the interval `hk` ending at
+/// sample k: the matrix, the known input and the tilt state's process noise.
+fn transition(
+    k: usize,
+    hk: f64,
+    b: &BoundedMotion,
+    g: f64,
+    model: TiltModel<'_>,
+    fk: f64,
+) -> (nalgebra::Matrix3<f64>, nalgebra::Vector3<f64>, f64) {
+    let (phi, input, var) = match model {
+        TiltModel::Residual => {
+            let phi = (-hk / b.tilt_tau_s).exp();
+            let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
+            (phi, 0.0, sd2 * (1.0 - phi * phi))
+        }
+        TiltModel::Gyro(u) => {
+            let uk = u(k);
+            let walk = b.gyro_walk_rad_sqrt_s * b.gyro_walk_rad_sqrt_s * hk;
+            (1.0, if uk.is_finite() { uk } else { 0.0 }, walk)
+        }
+    };
     let fm = nalgebra::Matrix3::new(phi, 0.0, 0.0, g * hk, 1.0, 0.0, 0.0, hk, 1.0);
-    (fm, phi)
+    (fm, nalgebra::Vector3::new(input, fk * hk, 0.0), var)
 }
 
 /// Kalman filter + RTS smoother of one horizontal axis of [`refine_bounded_motion`];
 /// `f(k)` is the horizontal specific force and `h(k)` the interval ending at
-/// sample k; returns the smoothed tilt-error state d at every sample.
+/// sample k; `emit(k, d)` hears the smoothed tilt-error state d of every
+/// sample (last to first).
 ///
 /// The forward pass stores only the filtered state and the upper triangle of
 /// its (symmetrised) covariance; the backward pass recomputes each prediction
@@ -525,13 +670,18 @@ fn rts_axis(
     h: impl Fn(usize) -> f64,
     b: &BoundedMotion,
     g: f64,
-) -> Vec<f64> {
+    model: TiltModel<'_>,
+    mut emit: impl FnMut(usize, f64),
+) {
     use nalgebra::{Matrix3, Vector3 as V3};
+    if n == 0 {
+        return;
+    }
     let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
     let (rv, rp) = (b.speed_m_s * b.speed_m_s, b.range_m * b.range_m);
-    let noise = |phi: f64| {
+    let noise = |var: f64| {
         let mut q = Matrix3::zeros();
-        q[(0, 0)] = sd2 * (1.0 - phi * phi);
+        q[(0, 0)] = var;
         q
     };
     let pack = |x: &V3<f64>, p: &Matrix3<f64>| {
@@ -560,9 +710,9 @@ fn rts_axis(
     for k in 0..n {
         // predict over the interval ending at sample k
         let hk = h(k);
-        let (fm, phi) = transition(hk, b, g);
-        x = fm * x + V3::new(0.0, f(k) * hk, 0.0);
-        p = fm * p * fm.transpose() + noise(phi);
+        let (fm, input, var) = transition(k, hk, b, g, model, f(k));
+        x = fm * x + input;
+        p = fm * p * fm.transpose() + noise(var);
         // velocity and position bounds at the constraint rate
         since += hk;
         if since >= period {
@@ -579,22 +729,20 @@ fn rts_axis(
         filtered.push(pack(&x, &p));
     }
     // Rauch–Tung–Striebel backward pass
-    let mut out = vec![0.0; n];
     let (mut xsm, _) = unpack(&filtered[n - 1]);
-    out[n - 1] = xsm[0];
+    emit(n - 1, xsm[0]);
     for k in (0..n - 1).rev() {
         let (xk, pk) = unpack(&filtered[k]);
-        let (fm, phi) = transition(h(k + 1), b, g);
-        let x_pred = fm * xk + V3::new(0.0, f(k + 1) * h(k + 1), 0.0);
-        let pp = fm * pk * fm.transpose() + noise(phi);
+        let (fm, input, var) = transition(k + 1, h(k + 1), b, g, model, f(k + 1));
+        let x_pred = fm * xk + input;
+        let pp = fm * pk * fm.transpose() + noise(var);
         let c = match pp.try_inverse() {
             Some(inv) => pk * fm.transpose() * inv,
             None => Matrix3::zeros(),
         };
         xsm = xk + c * (xsm - x_pred);
-        out[k] = xsm[0];
+        emit(k, xsm[0]);
     }
-    out
 }
 
 #[cfg(test)]
@@ -675,11 +823,13 @@ mod tests {
     }
 
     /// The Kalman/RTS pass of [`rts_axis`] against the same linear-Gaussian
-    /// model solved in one piece: every state is a linear function of the
-    /// independent Gaussians z = (x₋₁, w₀ … w_{n−1}), the bounds are
-    /// observations 0 = v_k + n_v, 0 = p_k + n_p, and the posterior mean is
-    /// z̄ = Σ Hᵀ (H Σ Hᵀ + R)⁻¹ (0 − c). The smoothed mean of a linear-Gaussian
-    /// model is unique, so the recursion must give the same d at every sample.
+    /// model solved in one piece, for both tilt models: every state is a
+    /// linear function of the independent Gaussians z = (x₋₁, w₀ … w_{n−1})
+    /// plus a known part c_k (the specific force, and in the gyro model the
+    /// steps u_k), the bounds are observations 0 = v_k + n_v, 0 = p_k + n_p,
+    /// and the posterior mean is z̄ = Σ Hᵀ (H Σ Hᵀ + R)⁻¹ (0 − c). The
+    /// smoothed mean of a linear-Gaussian model is unique, so the recursion
+    /// must give the same d at every sample.
     #[test]
     fn rts_pass_equals_the_batch_gaussian_solution() {
         use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -692,69 +842,132 @@ mod tests {
             tilt_tau_s: 0.05,
             // above the sample rate: a bound at every sample
             constraint_rate_hz: 1000.0,
+            gyro_walk_rad_sqrt_s: 0.05,
+            gyro_weight: 0.5,
         };
         let g = 9.81;
-        // uneven steps and an arbitrary horizontal force
+        // uneven steps, an arbitrary horizontal force and gyro-model steps
         let hs: Vec<f64> = (0..n)
             .map(|k| 0.004 + 0.002 * ((k * 7 % 5) as f64) / 4.0)
             .collect();
         let fs: Vec<f64> = (0..n)
             .map(|k| 0.3 * (0.37 * k as f64).sin() + 0.05)
             .collect();
-        let got = rts_axis(n, |k| fs[k], |k| hs[k], &b, g);
+        let us: Vec<f64> = (0..n).map(|k| 1e-3 * (0.9 * k as f64).cos()).collect();
+        let u = |k: usize| us[k];
+        for gyro in [false, true] {
+            let model = if gyro {
+                TiltModel::Gyro(&u)
+            } else {
+                TiltModel::Residual
+            };
+            let mut got = vec![f64::NAN; n];
+            rts_axis(n, |k| fs[k], |k| hs[k], &b, g, model, |k, d| got[k] = d);
 
-        // x_k = A_k z + c_k
-        let m = 3 + n;
-        let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
-        let mut prior = DVector::zeros(m);
-        prior[0] = sd2;
-        prior[1] = b.speed_m_s * b.speed_m_s;
-        prior[2] = b.range_m * b.range_m;
-        let mut a = DMatrix::<f64>::zeros(3, m);
-        a[(0, 0)] = 1.0;
-        a[(1, 1)] = 1.0;
-        a[(2, 2)] = 1.0;
-        let mut c = Vector3::<f64>::zeros();
-        let (mut rows_a, mut rows_c) = (Vec::new(), Vec::new());
-        for k in 0..n {
-            let h = hs[k];
-            let phi = (-h / b.tilt_tau_s).exp();
-            let f = Matrix3::new(phi, 0.0, 0.0, g * h, 1.0, 0.0, 0.0, h, 1.0);
-            let f_d = DMatrix::from_fn(3, 3, |i, j| f[(i, j)]);
-            a = &f_d * &a;
-            a[(0, 3 + k)] += 1.0;
-            prior[3 + k] = sd2 * (1.0 - phi * phi);
-            c = f * c + Vector3::new(0.0, fs[k] * h, 0.0);
-            rows_a.push(a.clone());
-            rows_c.push(c);
+            // x_k = A_k z + c_k
+            let m = 3 + n;
+            let sd2 = b.tilt_sigma_rad * b.tilt_sigma_rad;
+            let mut prior = DVector::zeros(m);
+            prior[0] = sd2;
+            prior[1] = b.speed_m_s * b.speed_m_s;
+            prior[2] = b.range_m * b.range_m;
+            let mut a = DMatrix::<f64>::zeros(3, m);
+            a[(0, 0)] = 1.0;
+            a[(1, 1)] = 1.0;
+            a[(2, 2)] = 1.0;
+            let mut c = Vector3::<f64>::zeros();
+            let (mut rows_a, mut rows_c) = (Vec::new(), Vec::new());
+            for k in 0..n {
+                let h = hs[k];
+                let (phi, var, input) = if gyro {
+                    (1.0, b.gyro_walk_rad_sqrt_s.powi(2) * h, us[k])
+                } else {
+                    let phi = (-h / b.tilt_tau_s).exp();
+                    (phi, sd2 * (1.0 - phi * phi), 0.0)
+                };
+                let f = Matrix3::new(phi, 0.0, 0.0, g * h, 1.0, 0.0, 0.0, h, 1.0);
+                let f_d = DMatrix::from_fn(3, 3, |i, j| f[(i, j)]);
+                a = &f_d * &a;
+                a[(0, 3 + k)] += 1.0;
+                prior[3 + k] = var;
+                c = f * c + Vector3::new(input, fs[k] * h, 0.0);
+                rows_a.push(a.clone());
+                rows_c.push(c);
+            }
+            // observations 0 = v_k + n_v and 0 = p_k + n_p at every k
+            let mut hm = DMatrix::<f64>::zeros(2 * n, m);
+            let mut y = DVector::<f64>::zeros(2 * n);
+            let mut r = DVector::<f64>::zeros(2 * n);
+            for k in 0..n {
+                for (j, (i, var)) in [(1usize, b.speed_m_s.powi(2)), (2, b.range_m.powi(2))]
+                    .into_iter()
+                    .enumerate()
+                {
+                    hm.row_mut(2 * k + j).copy_from(&rows_a[k].row(i));
+                    y[2 * k + j] = -rows_c[k][i];
+                    r[2 * k + j] = var;
+                }
+            }
+            let sigma = DMatrix::from_diagonal(&prior);
+            let s = &hm * &sigma * hm.transpose() + DMatrix::from_diagonal(&r);
+            let zbar = &sigma * hm.transpose() * s.lu().solve(&y).unwrap();
+            for k in 0..n {
+                let want = (rows_a[k].row(0) * &zbar)[0] + rows_c[k][0];
+                assert!(
+                    (got[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
+                    "gyro model {gyro}, sample {k}: RTS {} against batch {want}",
+                    got[k]
+                );
+            }
+            // and the bounds pulled the tilt error away from zero: the test sees something
+            assert!(got.iter().any(|d| d.abs() > 1e-3), "{got:?}");
         }
-        // observations 0 = v_k + n_v and 0 = p_k + n_p at every k
-        let mut hm = DMatrix::<f64>::zeros(2 * n, m);
-        let mut y = DVector::<f64>::zeros(2 * n);
-        let mut r = DVector::<f64>::zeros(2 * n);
-        for k in 0..n {
-            for (j, (i, var)) in [(1usize, b.speed_m_s.powi(2)), (2, b.range_m.powi(2))]
-                .into_iter()
-                .enumerate()
-            {
-                hm.row_mut(2 * k + j).copy_from(&rows_a[k].row(i));
-                y[2 * k + j] = -rows_c[k][i];
-                r[2 * k + j] = var;
+    }
+
+    /// [`beyond_gyro`] by round trip: an attitude sequence that is the
+    /// gyro's own propagation (rates with scale errors s, the estimate given
+    /// the rate (ω − b)·(1 − s)) has no step beyond it; a navigation-frame
+    /// tilt c applied from sample j on shows as (−c_N, c_E) at j alone.
+    #[test]
+    fn beyond_gyro_is_what_an_estimate_did_that_the_gyro_did_not() {
+        let n = 400;
+        let dt = vec![0.01; n];
+        let s = Vec3::new(0.02, -0.015, 0.01);
+        let bias = vec![Vec3::new(0.01, -0.02, 0.005); n];
+        // a turn whose axis turns (coning), as the true rate
+        let rate = |k: usize| {
+            let t = k as f64 * 0.01;
+            Vec3::new(1.5 * (2.0 * t).sin(), 1.2 * (2.0 * t).cos(), 0.4)
+        };
+        // the gyro reads ω/(1 − s) + b, so that (ω_meas − b)·(1 − s) = ω
+        let gyr: Vec<Vec3> = (0..n)
+            .map(|k| rate(k).component_div(&(Vec3::repeat(1.0) - s)) + bias[k])
+            .collect();
+        let mut q = vec![Attitude::identity(); n];
+        q[0] = UnitQuaternion::from_euler_angles(0.2, -0.3, 1.0);
+        for k in 1..n {
+            let (wp, w) = (rate(k - 1), rate(k));
+            let phi = (w + wp.cross(&w) * (0.01 / 12.0)) * 0.01;
+            q[k] = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
+        }
+        let u = beyond_gyro(&q, &gyr, &bias, &s, &dt);
+        let largest = u.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs()));
+        assert!(largest < 1e-6, "{largest}");
+        let (j, c) = (150, Vec3::new(0.01, -0.02, 0.005));
+        for x in q.iter_mut().skip(j) {
+            *x = UnitQuaternion::from_scaled_axis(c) * *x;
+        }
+        let u = beyond_gyro(&q, &gyr, &bias, &s, &dt);
+        let want = [-c.y as f32, c.x as f32];
+        for (k, v) in u.iter().enumerate() {
+            let expect = if k == j { want } else { [0.0; 2] };
+            for i in 0..2 {
+                assert!(
+                    (v[i] - expect[i]).abs() < 2e-4 * c.norm() as f32 + 1e-6,
+                    "sample {k}: {v:?} against {expect:?}"
+                );
             }
         }
-        let sigma = DMatrix::from_diagonal(&prior);
-        let s = &hm * &sigma * hm.transpose() + DMatrix::from_diagonal(&r);
-        let zbar = &sigma * hm.transpose() * s.lu().solve(&y).unwrap();
-        for k in 0..n {
-            let want = (rows_a[k].row(0) * &zbar)[0] + rows_c[k][0];
-            assert!(
-                (got[k] - want).abs() < 1e-9 * (1.0 + want.abs()),
-                "sample {k}: RTS {} against batch {want}",
-                got[k]
-            );
-        }
-        // and the bounds pulled the tilt error away from zero: the test sees something
-        assert!(got.iter().any(|d| d.abs() > 1e-3), "{got:?}");
     }
 
     #[test]
