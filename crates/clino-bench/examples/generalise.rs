@@ -39,7 +39,7 @@ use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams};
-use clino::sim::motion::{Sum, vibration};
+use clino::sim::motion::{Offset, Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
 use clino::sim::{ImuModel, Motion};
 use clino::smooth::{SmoothOptions, smooth};
@@ -293,6 +293,11 @@ enum Kind {
     /// speed) and a physiological tremor throughout (9 Hz, 0.1 m/s²,
     /// 1°/s).
     Held,
+    /// The hand motion turning a segment about a joint 0.25 m from the
+    /// sensor (a chain of segments moved by hand, a sensor on an arm): the
+    /// sensor's tangential and centripetal accelerations turn with it
+    /// ([`Offset`]), no lever arm given to any filter.
+    Arm,
     /// The slewing excavator with the lever arm given.
     Slewing,
 }
@@ -305,6 +310,7 @@ impl Kind {
             Kind::SlowVib => "slow+vib",
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
+            Kind::Arm => "hand,arm0.25m",
             Kind::Slewing => "slewing+lever",
         }
     }
@@ -335,6 +341,18 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 seed,
                 m.initial_rest_s,
                 Some(m.lever_arm_m),
+            )
+        }
+        Kind::Arm => {
+            let hand = HandMotion::new(HandParams::by_hand(), seed);
+            let m = Offset {
+                motion: hand,
+                r_body_m: Vec3::new(0.25, 0.05, 0.0),
+            };
+            let from = hand.params.initial_rest_s;
+            with_rests(
+                simulate(&m, &model, c.rate, seconds, seed, from, None),
+                &hand,
             )
         }
         Kind::Hand | Kind::Slow | Kind::SlowVib | Kind::ShortRests | Kind::Held => {
@@ -622,6 +640,9 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::GyroScale, 100.0),
         (Kind::Hand, Sensor::ScaleMixed, 100.0),
         (Kind::Hand, Sensor::ScaleBoth, 40.0),
+        (Kind::Arm, Sensor::Calibrated, 40.0),
+        (Kind::Arm, Sensor::Calibrated, 100.0),
+        (Kind::Arm, Sensor::Bias, 40.0),
         (Kind::Hand, Sensor::CrossAxis, 40.0),
         (Kind::Hand, Sensor::CrossAxis, 100.0),
         (Kind::SlowVib, Sensor::CrossAxis, 125.0),

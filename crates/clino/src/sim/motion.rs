@@ -276,6 +276,36 @@ impl<A: Motion, B: Motion> Motion for Sum<A, B> {
     }
 }
 
+/// `motion` seen by a sensor mounted at `r_body_m` (body frame) from the
+/// point the motion describes: a segment turned about a joint, a sensor on
+/// an arm. Attitude and rates are the motion's; the sensor's point is
+/// p + C·r, its velocity v + C·(ω × r) and its acceleration
+/// a + C·(dω/dt × r + ω × (ω × r)) — the tangential and centripetal terms of
+/// the lever arm ([`clino_core::compensate::lever_arm_acceleration`]), which
+/// turn with the body and so do not average out as a free translation does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Offset<M> {
+    /// The motion of the pivot (the joint).
+    pub motion: M,
+    /// The sensor's position from the pivot, m (body frame).
+    pub r_body_m: Vec3,
+}
+
+impl<M: Motion> Motion for Offset<M> {
+    fn truth(&self, t_s: f64) -> Truth {
+        let t = self.motion.truth(t_s);
+        let (w, wd, r) = (t.gyr_rad_s, t.ang_acc_rad_s2, self.r_body_m);
+        let c = t.attitude;
+        Truth {
+            pos_m: t.pos_m + c * r,
+            vel_m_s: t.vel_m_s + c * w.cross(&r),
+            acc_m_s2: t.acc_m_s2
+                + c * clino_core::compensate::lever_arm_acceleration(&w, &wd, &r),
+            ..t
+        }
+    }
+}
+
 /// A vibrating base (an engine, a robot's drives) at `freq_hz`: linear
 /// vibration of acceleration amplitude `acc_m_s2` per navigation axis (an
 /// [`Orbit`] of amplitude a/ω², phases 0, 1, 2 rad) and angular vibration of
@@ -415,6 +445,26 @@ mod tests {
         // the cone's rate across its axis is ω·sin α (α = rate/ω)
         assert_relative_eq!(w_max, 0.035, max_relative = 1e-6);
         assert_relative_eq!(a_max, Vec3::new(1.5, 1.0, 1.2), max_relative = 1e-3);
+    }
+
+    #[test]
+    fn an_offset_sensor_moves_as_a_point_of_the_body() {
+        // derivatives by finite differences, on a turning, translating motion
+        let m = Offset {
+            motion: Sum {
+                a: Conical::about_z(0.3, 0.7),
+                b: Orbit::spatial(0.1, 0.4),
+            },
+            r_body_m: Vec3::new(0.3, -0.1, 0.2),
+        };
+        check_derivatives(&m);
+        // the point's position is the pivot's plus the rotated arm
+        let (tr, tp) = (m.truth(1.3), m.motion.truth(1.3));
+        assert_relative_eq!(
+            tr.pos_m,
+            tp.pos_m + tp.attitude * m.r_body_m,
+            epsilon = 1e-12
+        );
     }
 
     #[test]
