@@ -18,28 +18,16 @@ smoother, the ratio of the means and the worst per-recording ratio; then
 PyPI VQF's real-time figure beside vqf-rs's (the two ports should agree:
 a check that the export and the scoring are the harness's).
 
-Installs `vqf` and `numpy` into the private environment of
-scripts/vqf_baseline.py (${CLINO_PYENV:-/tmp/clino-pyenv}) on first use.
+Installs `vqf` and `numpy` into the scripts' private environment
+(scripts/_venv.py, ${CLINO_SCRIPTS_VENV:-/tmp/clino-scripts-venv}).
 """
 import csv
 import json
 import os
 import sys
 
-ENV = os.environ.get("CLINO_PYENV", "/tmp/clino-pyenv")
-
-
-def ensure_env():
-    import subprocess
-
-    py = os.path.join(ENV, "bin", "python")
-    if not os.path.exists(py):
-        subprocess.check_call([sys.executable, "-m", "venv", ENV])
-    try:
-        subprocess.check_call([py, "-c", "import vqf, numpy"], stderr=subprocess.DEVNULL)
-    except subprocess.CalledProcessError:
-        subprocess.check_call([py, "-m", "pip", "install", "-q", "vqf>=2,<3", "numpy"])
-    return py
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _venv import ensure_venv  # noqa: E402
 
 
 def main():
@@ -47,11 +35,7 @@ def main():
     want_json = "--json" in sys.argv
     if len(args) != 1:
         sys.exit("usage: scripts/offline_vqf_grid.py DIR [--json]  (DIR from generalise --export)")
-    if os.environ.get("CLINO_IN_ENV") != "1":
-        py = ensure_env()
-        env = dict(os.environ, CLINO_IN_ENV="1")
-        os.execve(py, [py, os.path.abspath(__file__)] + sys.argv[1:], env)
-
+    ensure_venv(["vqf>=2,<3", "numpy"])
     import numpy as np
     from vqf import VQF, offlineVQF
 

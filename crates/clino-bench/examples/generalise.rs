@@ -509,22 +509,11 @@ fn export_recording(path: &std::path::Path, rec: &Rec) -> clino::Result<()> {
         |e: std::io::Error| clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(path);
     let f = std::fs::File::create(path).map_err(io)?;
     let mut w = CsvLineWriter::new(f);
-    w.header(&[
-        "t_s",
-        "gyr_x_rad_s",
-        "gyr_y_rad_s",
-        "gyr_z_rad_s",
-        "acc_x_m_s2",
-        "acc_y_m_s2",
-        "acc_z_m_s2",
-        "ref_qw",
-        "ref_qx",
-        "ref_qy",
-        "ref_qz",
-        "movement",
-        "rest",
-    ])
-    .map_err(io)?;
+    // the raw columns as `clino stream --record` writes them (less `temp_c`),
+    // then the reference and the masks
+    let mut head: Vec<&str> = clino::stream::RAW_HEADER[..7].to_vec();
+    head.extend(["ref_qw", "ref_qx", "ref_qy", "ref_qz", "movement", "rest"]);
+    w.header(&head).map_err(io)?;
     for (k, s) in rec.samples.iter().enumerate() {
         w.f64(s.t_s);
         for v in s.gyr_rad_s.iter().chain(s.acc_m_s2.iter()) {

@@ -790,29 +790,38 @@ mod filter_tests {
     }
 
     /// Offline tilt RMSE (°, after the initial rest) of `hand` through
-    /// `model` at 100 Hz over 120 s, smoothed with the refinement `refine`.
-    fn offline_error(
+    /// `model` at 100 Hz over 120 s, smoothed with the refinement's gyro
+    /// model at weight 0 (the residual model alone), 1/2 (the default pool)
+    /// and 1 (the gyro model alone).
+    fn offline_errors_by_gyro_weight(
         hand: &HandMotion,
         model: &crate::sim::ImuModel,
-        refine: crate::smooth::BoundedMotion,
-    ) -> f64 {
-        use crate::smooth::{SmoothOptions, smooth};
+    ) -> (f64, f64, f64) {
+        use crate::smooth::{BoundedMotion, SmoothOptions, smooth};
         let s = model.simulate(hand, 100.0, 120.0, 7);
         let gyr: Vec<Vec3> = s.iter().map(|x| x.gyr_rad_s).collect();
         let acc: Vec<Vec3> = s.iter().map(|x| x.acc_m_s2).collect();
         let dt = vec![0.01; s.len()];
-        let opts = SmoothOptions {
-            refine: Some(refine),
-            ..Default::default()
-        };
-        let off = smooth(&gyr, &acc, &dt, &opts);
-        let mut e = Rms::default();
-        for (k, smp) in s.iter().enumerate() {
-            if smp.t_s > hand.params.initial_rest_s {
-                e.push(inclination_error(&off[k], &hand.truth(smp.t_s).attitude));
+        let at = |w: f64| {
+            let opts = SmoothOptions {
+                refine: Some(BoundedMotion {
+                    gyro_weight: w,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            };
+            let off = smooth(&gyr, &acc, &dt, &opts);
+            let mut e = Rms::default();
+            for (k, smp) in s.iter().enumerate() {
+                if smp.t_s > hand.params.initial_rest_s {
+                    e.push(inclination_error(&off[k], &hand.truth(smp.t_s).attitude));
+                }
             }
-        }
-        e.value().to_degrees()
+            e.value().to_degrees()
+        };
+        let (residual, pool, gyro) = (at(0.0), at(0.5), at(1.0));
+        println!("residual {residual}°, pool {pool}°, gyro {gyro}°");
+        (residual, pool, gyro)
     }
 
     #[test]
@@ -824,21 +833,9 @@ mod filter_tests {
         // simulated grid); the gyro model undoes them unless bounded motion
         // confirms them. Measured: residual alone ≈ 0.13°, gyro model alone
         // ≈ 0.07°, the default pool of both in between.
-        use crate::smooth::BoundedMotion;
         let hand = HandMotion::new(HandParams::by_hand(), 4);
         let model = crate::sim::slewing::sensor().with_bandwidth(40.0);
-        let at = |w: f64| {
-            offline_error(
-                &hand,
-                &model,
-                BoundedMotion {
-                    gyro_weight: w,
-                    ..Default::default()
-                },
-            )
-        };
-        let (residual, pool, gyro) = (at(0.0), at(0.5), at(1.0));
-        println!("residual {residual}°, pool {pool}°, gyro {gyro}°");
+        let (residual, pool, gyro) = offline_errors_by_gyro_weight(&hand, &model);
         assert!(gyro < 0.7 * residual, "{gyro}° against {residual}°");
         assert!(pool < 0.85 * residual, "{pool}° against {residual}°");
         assert!(gyro < pool, "{gyro}° against {pool}°");
@@ -851,22 +848,10 @@ mod filter_tests {
         // (measured on the grid: 0.55° → 0.69° alone); with it the gyro
         // model alone is 0.08° and the pool halves the residual model's
         // error (0.55° → 0.29°).
-        use crate::smooth::BoundedMotion;
         let hand = HandMotion::new(HandParams::by_hand(), 5);
         let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
         model.gyro.scale = Vec3::new(0.02, -0.015, 0.01);
-        let at = |w: f64| {
-            offline_error(
-                &hand,
-                &model,
-                BoundedMotion {
-                    gyro_weight: w,
-                    ..Default::default()
-                },
-            )
-        };
-        let (residual, pool, gyro) = (at(0.0), at(0.5), at(1.0));
-        println!("residual {residual}°, pool {pool}°, gyro {gyro}°");
+        let (residual, pool, gyro) = offline_errors_by_gyro_weight(&hand, &model);
         assert!(pool < 0.7 * residual, "{pool}° against {residual}°");
         // the gyro model alone, which without the learnt scale was worse than
         // the residual model

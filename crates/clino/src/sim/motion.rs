@@ -299,8 +299,7 @@ impl<M: Motion> Motion for Offset<M> {
         Truth {
             pos_m: t.pos_m + c * r,
             vel_m_s: t.vel_m_s + c * w.cross(&r),
-            acc_m_s2: t.acc_m_s2
-                + c * clino_core::compensate::lever_arm_acceleration(&w, &wd, &r),
+            acc_m_s2: t.acc_m_s2 + c * clino_core::compensate::lever_arm_acceleration(&w, &wd, &r),
             ..t
         }
     }
