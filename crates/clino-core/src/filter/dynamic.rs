@@ -1316,7 +1316,9 @@ impl Dynamic {
     }
 
     /// The noise of one rest-pair observation the learner now assumes, rad:
-    /// [`SCALE_OBS_NOISE_RAD`] until pairs show their own ([`pair_noise`]).
+    /// the prior 0.02 rad (what an MPU6050's cross-axis sensitivity leaves)
+    /// until the pairs show their own, estimated from the residual of their
+    /// fit and pooled with that prior.
     pub fn pair_noise_rad(&self) -> f64 {
         sqrt(self.gsl.r2)
     }
