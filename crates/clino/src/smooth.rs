@@ -32,7 +32,9 @@
 //!    (its rate less the smoothed bias, with the gyro scale factors the
 //!    second forward pass learnt) up to a slow random walk, so that every
 //!    correction the passes made beyond the gyro is itself an error unless
-//!    the bounded motion confirms it (the gyro model, [`BoundedMotion::gyro_weight`]).
+//!    the bounded motion confirms it (the gyro model); the gyro model's
+//!    weight is 1 − d/2, d the learner's doubt in the gyro's propagation
+//!    ([`clino_core::filter::Dynamic::gyro_doubt`], [`BoundedMotion::gyro_weight`]).
 //!
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
@@ -97,17 +99,26 @@ pub struct BoundedMotion {
     /// (BENCHMARKS.md): 1e-7 to 1e-5 rad²/s move the simulated grid and
     /// BROAD by less than 0.01°.
     pub gyro_walk_rad_sqrt_s: f64,
-    /// Weight of the gyro model in the refinement, 0–1; the residual model
-    /// has the rest. Default 1/2: an equal-weight pool of the two smoothed
-    /// corrections. Each model is right on some sensors: the gyro model on a
-    /// well-calibrated gyro (simulated hand motion, offline error 0.126° →
-    /// 0.069° alone, where the passes' loop corrections are mostly the
-    /// mount's acceleration), the residual model on a gyro shaken at 5 g
-    /// (BROAD trial 15: 0.45° against 0.55°). The bounded-motion likelihood
-    /// of the two was measured to pick the better one no more often than
-    /// not, so neither is chosen: 0 gives the residual model alone (the
-    /// refinement before 4 Dec 2026), 1 the gyro model alone.
-    pub gyro_weight: f64,
+    /// Weight of the gyro model in the refinement, 0–1 (the residual model
+    /// has the rest); `None`, the default, takes it from the evidence the
+    /// second forward pass gathered on the gyro: 1 − d/2, with d the
+    /// learner's doubt in the gyro's propagation
+    /// ([`clino_core::filter::Dynamic::gyro_doubt`]). Without evidence (no
+    /// rest pair, or pairs that miss as much as an unmodelled sensor would)
+    /// the weight is 1/2, an equal pool: each model is right on some sensors,
+    /// the gyro model on a well-calibrated gyro (simulated hand motion,
+    /// offline error 0.126° → 0.069° alone, where the passes' loop
+    /// corrections are mostly the mount's acceleration), the residual model
+    /// on a gyro shaken at 5 g with no rest to learn from (BROAD trial 15:
+    /// 0.45° against 0.55°) or one whose pairs show errors the learner does
+    /// not model (trial 31, IMU D: 0.84° against 0.92°). Where rest pairs
+    /// have pinned the gyro's scale down and they fit, the gyro model takes
+    /// up to the whole weight (simulated calibrated hand motion: w ≈ 0.88).
+    /// The bounded-motion likelihood of the two models was measured to pick
+    /// the better one no more often than not, so it does not choose.
+    /// `Some(0.0)` gives the residual model alone (the refinement before
+    /// 4 Dec 2026), `Some(1.0)` the gyro model alone.
+    pub gyro_weight: Option<f64>,
 }
 
 impl Default for BoundedMotion {
@@ -119,7 +130,7 @@ impl Default for BoundedMotion {
             tilt_tau_s: 10.0,
             constraint_rate_hz: 10.0,
             gyro_walk_rad_sqrt_s: 1e-3,
-            gyro_weight: 0.5,
+            gyro_weight: None,
         }
     }
 }
@@ -413,6 +424,16 @@ fn smooth_compensated(
         .filter()
         .as_dynamic()
         .map_or_else(Vec3::zeros, |d| d.gyro_scale());
+    // the gyro model's weight: as given, or from the learner's doubt in the
+    // gyro's propagation over the whole record
+    let gyro_weight = opts.refine.as_ref().map_or(0.0, |b| {
+        b.gyro_weight
+            .unwrap_or_else(|| {
+                let doubt = fc.filter().as_dynamic().map_or(1.0, |d| d.gyro_doubt());
+                1.0 - 0.5 * doubt
+            })
+            .clamp(0.0, 1.0)
+    });
     let with_errs = |mut p: Pipeline| {
         if let (Some((d, b)), Some(f)) = (acc_errs, p.filter_mut().as_dynamic_mut()) {
             f.set_sensor_errors(Vec3::zeros(), d, b);
@@ -432,7 +453,7 @@ fn smooth_compensated(
     });
     drop(t);
     let beyond = match &opts.refine {
-        Some(b) if b.gyro_weight > 0.0 => Some(beyond_gyro(&q, gyr, &bs, &gyro_scale, dt)),
+        Some(_) if gyro_weight > 0.0 => Some(beyond_gyro(&q, gyr, &bs, &gyro_scale, dt)),
         _ => None,
     };
     drop(bs);
@@ -441,7 +462,7 @@ fn smooth_compensated(
             &mut q,
             acc,
             acc_errs,
-            beyond.as_deref(),
+            beyond.as_deref().map(|u| (u, gyro_weight)),
             dt,
             b,
             opts.params.gravity_m_s2,
@@ -537,14 +558,14 @@ pub fn refine_bounded_motion(
 /// [`refine_bounded_motion`] writing over `q`; with `fix` = (d, b) the
 /// specific force used is f·(1 − d) − b (the accelerometer's learnt scale
 /// errors and bias, [`clino_core::filter::Dynamic::set_sensor_errors`]); with
-/// `beyond` (from [`beyond_gyro`]) the gyro model is pooled with the residual
-/// model at [`BoundedMotion::gyro_weight`].
+/// `gyro` = (the steps from [`beyond_gyro`], w) the gyro model is pooled with
+/// the residual model at weight w ([`BoundedMotion::gyro_weight`]).
 #[allow(clippy::too_many_arguments)]
 fn refine_in_place(
     q: &mut [Attitude],
     acc: &[Vec3],
     fix: Option<(Vec3, Vec3)>,
-    beyond: Option<&[[f32; 2]]>,
+    gyro: Option<(&[[f32; 2]], f64)>,
     dt: &[f64],
     b: &BoundedMotion,
     g: f64,
@@ -577,9 +598,9 @@ fn refine_in_place(
     };
     // E velocity sees +g·δ_N; N velocity sees −g·δ_E = +g·(−δ_E): the
     // smoothed (δ_N, −δ_E), pooled over the models ([`BoundedMotion::gyro_weight`])
-    let w = match beyond {
-        Some(u) if u.len() >= n => b.gyro_weight.clamp(0.0, 1.0),
-        _ => 0.0,
+    let (beyond, w) = match gyro {
+        Some((u, w)) if u.len() >= n => (Some(u), w.clamp(0.0, 1.0)),
+        _ => (None, 0.0),
     };
     let mut d = vec![[0.0f32; 2]; n];
     for axis in 0..2 {
@@ -843,7 +864,7 @@ mod tests {
             // above the sample rate: a bound at every sample
             constraint_rate_hz: 1000.0,
             gyro_walk_rad_sqrt_s: 0.05,
-            gyro_weight: 0.5,
+            gyro_weight: None,
         };
         let g = 9.81;
         // uneven steps, an arbitrary horizontal force and gyro-model steps

@@ -1355,6 +1355,31 @@ impl Dynamic {
         sqrt(self.gsl.r2)
     }
 
+    /// How much the learner still doubts the gyro's own propagation, 0–1:
+    /// the larger of the learnt gyro scale's variance over its prior
+    /// mixture's (σ₀²/2, [`DynamicParams::gyro_scale_sigma`]), averaged over
+    /// the axes, and the rest pairs' remaining misfit over the prior's,
+    /// (r/0.02 rad)² ([`Dynamic::pair_noise_rad`]). 1 before the first rest
+    /// pair or with the gyro scale not learnt; near 0 when pairs have pinned
+    /// the scale down and the gyro, with it, carries each rest's gravity
+    /// direction to the next within a few milliradians. (A sensor whose pairs
+    /// miss by the prior's 0.02 rad keeps a doubt of 1 however sure the scale
+    /// looks: something the model does not hold, such as cross-axis terms, is
+    /// in the propagation.)
+    pub fn gyro_doubt(&self) -> f64 {
+        let s0 = self.params.gyro_scale_sigma;
+        let l = &self.gsl;
+        if l.pairs == 0 || s0.is_nan() || s0 <= 0.0 {
+            return 1.0;
+        }
+        let scale = (2.0 * (l.sd[0] * l.sd[0] + l.sd[1] * l.sd[1] + l.sd[2] * l.sd[2])
+            / (3.0 * s0 * s0))
+            .clamp(0.0, 1.0);
+        let fit = (l.r2 / (SCALE_OBS_NOISE_RAD * SCALE_OBS_NOISE_RAD)).clamp(0.0, 1.0);
+        let d = scale.max(fit);
+        if d.is_finite() { d } else { 1.0 }
+    }
+
     /// The number of rest pairs (two rests with a motion between) the
     /// sensor errors were learnt from.
     pub fn rest_pairs(&self) -> u32 {
@@ -3015,6 +3040,36 @@ mod tests {
         // no specific force, or NaN: no trust
         assert_eq!(l.rest_trust(&p, &Vector3::zeros()), 0.0);
         assert_eq!(l.rest_trust(&p, &Vector3::new(f64::NAN, 0.0, 9.8)), 0.0);
+    }
+
+    #[test]
+    fn gyro_doubt_is_the_larger_of_the_scale_and_fit_doubts() {
+        let mut d = Dynamic::default();
+        // no pair yet: full doubt
+        assert_eq!(d.gyro_doubt(), 1.0);
+        d.gsl.pairs = 4;
+        d.gsl.sd[0] = 0.003;
+        d.gsl.sd[1] = 0.0;
+        d.gsl.sd[2] = 0.006;
+        d.gsl.r2 = 0.004 * 0.004;
+        // scale: 2·(9e-6 + 36e-6)/(3·9e-4) = 1/30; fit: (0.004/0.02)² = 0.04
+        assert!((d.gyro_doubt() - 0.04).abs() < 1e-12, "{}", d.gyro_doubt());
+        d.gsl.r2 = 0.001 * 0.001;
+        assert!(
+            (d.gyro_doubt() - 1.0 / 30.0).abs() < 1e-12,
+            "{}",
+            d.gyro_doubt()
+        );
+        // pairs that miss by the prior's 0.02 rad or more: full doubt
+        d.gsl.r2 = 0.03 * 0.03;
+        assert_eq!(d.gyro_doubt(), 1.0);
+        // the gyro scale not learnt: full doubt
+        let mut off = Dynamic::new(DynamicParams {
+            gyro_scale_sigma: 0.0,
+            ..DynamicParams::default()
+        });
+        off.gsl.pairs = 4;
+        assert_eq!(off.gyro_doubt(), 1.0);
     }
 
     #[test]

@@ -791,18 +791,18 @@ mod filter_tests {
 
     /// Offline tilt RMSE (°, after the initial rest) of `hand` through
     /// `model` at 100 Hz over 120 s, smoothed with the refinement's gyro
-    /// model at weight 0 (the residual model alone), 1/2 (the default pool)
-    /// and 1 (the gyro model alone).
+    /// model at weight 0 (the residual model alone), 1/2 (the equal pool),
+    /// 1 (the gyro model alone) and the default (from the learner's doubt).
     fn offline_errors_by_gyro_weight(
         hand: &HandMotion,
         model: &crate::sim::ImuModel,
-    ) -> (f64, f64, f64) {
+    ) -> (f64, f64, f64, f64) {
         use crate::smooth::{BoundedMotion, SmoothOptions, smooth};
         let s = model.simulate(hand, 100.0, 120.0, 7);
         let gyr: Vec<Vec3> = s.iter().map(|x| x.gyr_rad_s).collect();
         let acc: Vec<Vec3> = s.iter().map(|x| x.acc_m_s2).collect();
         let dt = vec![0.01; s.len()];
-        let at = |w: f64| {
+        let at = |w: Option<f64>| {
             let opts = SmoothOptions {
                 refine: Some(BoundedMotion {
                     gyro_weight: w,
@@ -819,9 +819,10 @@ mod filter_tests {
             }
             e.value().to_degrees()
         };
-        let (residual, pool, gyro) = (at(0.0), at(0.5), at(1.0));
-        println!("residual {residual}°, pool {pool}°, gyro {gyro}°");
-        (residual, pool, gyro)
+        let (residual, pool, gyro) = (at(Some(0.0)), at(Some(0.5)), at(Some(1.0)));
+        let default = at(None);
+        println!("residual {residual}°, pool {pool}°, gyro {gyro}°, default {default}°");
+        (residual, pool, gyro, default)
     }
 
     #[test]
@@ -835,10 +836,16 @@ mod filter_tests {
         // ≈ 0.07°, the default pool of both in between.
         let hand = HandMotion::new(HandParams::by_hand(), 4);
         let model = crate::sim::slewing::sensor().with_bandwidth(40.0);
-        let (residual, pool, gyro) = offline_errors_by_gyro_weight(&hand, &model);
+        let (residual, pool, gyro, default) = offline_errors_by_gyro_weight(&hand, &model);
         assert!(gyro < 0.7 * residual, "{gyro}° against {residual}°");
         assert!(pool < 0.85 * residual, "{pool}° against {residual}°");
         assert!(gyro < pool, "{gyro}° against {pool}°");
+        // the rest pairs have pinned this gyro down and fit: the default
+        // weight leans to the gyro model
+        assert!(
+            default < pool - 0.5 * (pool - gyro),
+            "{default}° against {pool}°, {gyro}°"
+        );
     }
 
     #[test]
@@ -851,8 +858,9 @@ mod filter_tests {
         let hand = HandMotion::new(HandParams::by_hand(), 5);
         let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
         model.gyro.scale = Vec3::new(0.02, -0.015, 0.01);
-        let (residual, pool, gyro) = offline_errors_by_gyro_weight(&hand, &model);
+        let (residual, pool, gyro, default) = offline_errors_by_gyro_weight(&hand, &model);
         assert!(pool < 0.7 * residual, "{pool}° against {residual}°");
+        assert!(default < pool, "{default}° against {pool}°");
         // the gyro model alone, which without the learnt scale was worse than
         // the residual model
         assert!(gyro < 0.5 * residual, "{gyro}° against {residual}°");
