@@ -453,7 +453,7 @@ fn smooth_compensated(
     });
     drop(t);
     let beyond = match &opts.refine {
-        Some(_) if gyro_weight > 0.0 => Some(beyond_gyro(&q, gyr, &bs, &gyro_scale, dt)),
+        Some(_) if gyro_weight > 0.0 => Some(beyond_gyro(&q, gyr, acc, &bs, &gyro_scale, dt)),
         _ => None,
     };
     drop(bs);
@@ -478,22 +478,33 @@ fn smooth_compensated(
 /// interval ending at sample k (rate (ω − b_k)·(1 − s), the two-sample coning
 /// term as in the filter), the entries (−e_N, e_E): the steps of the tilt
 /// error states (δ_N, −δ_E) of the refinement when the gyro is right.
-/// Unusable samples (non-finite rate, dt ≤ 0) contribute nothing. Stored as
-/// `f32` (a step is below 0.1 rad; 7 digits are far below any sensor's).
+/// Samples the passes' pipeline did not use (a NaN, a reading beyond the
+/// physical bounds: [`clino_core::pipeline::admission`]; dt ≤ 0) contribute
+/// nothing. Stored as `f32` (a step is below 0.1 rad; 7 digits are far below
+/// any sensor's).
 fn beyond_gyro(
     q: &[Attitude],
     gyr: &[Vec3],
+    acc: &[Vec3],
     bias: &[Vec3],
     scale: &Vec3,
     dt: &[f64],
 ) -> Vec<[f32; 2]> {
-    let n = q.len().min(gyr.len()).min(bias.len()).min(dt.len());
+    let n = q
+        .len()
+        .min(gyr.len())
+        .min(acc.len())
+        .min(bias.len())
+        .min(dt.len());
     let one_s = Vec3::repeat(1.0) - scale;
     let mut out = vec![[0.0f32; 2]; n];
     let mut w_prev: Option<Vec3> = None;
     for k in 0..n {
+        let used = clino_core::pipeline::admission(&ImuSample::new(0.0, gyr[k], acc[k])).is_none()
+            && dt[k].is_finite()
+            && dt[k] > 0.0;
         let w = (gyr[k] - bias[k]).component_mul(&one_s);
-        if !(w.iter().all(|v| v.is_finite()) && dt[k].is_finite() && dt[k] > 0.0) {
+        if !(used && w.iter().all(|v| v.is_finite())) {
             continue;
         }
         if let (Some(wp), true) = (w_prev, k > 0) {
@@ -521,7 +532,9 @@ fn combine(qf: &Attitude, qb: &Attitude) -> Attitude {
     qf * corr
 }
 
-/// Whole-record refinement of a tilt estimate from bounded motion.
+/// Whole-record refinement of a tilt estimate from bounded motion, under the
+/// residual model alone ([`BoundedMotion::gyro_weight`] is not read here: the
+/// gyro model needs the rates and the smoothed bias, which only [`smooth`] has).
 ///
 /// With the attitude estimate q̂, the horizontal specific force in the
 /// navigation frame, f̂ = (q̂ ⊗ f ⊗ q̂*)_EN, is the mount's horizontal
@@ -971,14 +984,15 @@ mod tests {
             let phi = (w + wp.cross(&w) * (0.01 / 12.0)) * 0.01;
             q[k] = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
         }
-        let u = beyond_gyro(&q, &gyr, &bias, &s, &dt);
+        let acc = vec![Vec3::new(0.0, 0.0, 9.81); n];
+        let u = beyond_gyro(&q, &gyr, &acc, &bias, &s, &dt);
         let largest = u.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs()));
         assert!(largest < 1e-6, "{largest}");
         let (j, c) = (150, Vec3::new(0.01, -0.02, 0.005));
         for x in q.iter_mut().skip(j) {
             *x = UnitQuaternion::from_scaled_axis(c) * *x;
         }
-        let u = beyond_gyro(&q, &gyr, &bias, &s, &dt);
+        let u = beyond_gyro(&q, &gyr, &acc, &bias, &s, &dt);
         let want = [-c.y as f32, c.x as f32];
         for (k, v) in u.iter().enumerate() {
             let expect = if k == j { want } else { [0.0; 2] };
@@ -1000,5 +1014,32 @@ mod tests {
         let out = smooth(&g, &a, &[0.01; 10], &SmoothOptions::default());
         assert_eq!(out.len(), 10);
         assert!(out.iter().all(|q| q.w.is_finite()));
+        // a NaN or absurd rate, and a zero interval, on a longer still record
+        // with the gyro model weighted in: every output finite, and level
+        let n = 3000;
+        let mut g = vec![Vec3::zeros(); n];
+        let a = vec![Vec3::new(0.0, 0.0, 9.81); n];
+        let mut dt = vec![0.01; n];
+        g[700] = Vec3::new(f64::NAN, 0.0, 0.0);
+        g[1400] = Vec3::new(1e308, 0.0, 0.0);
+        dt[2100] = 0.0;
+        for w in [None, Some(1.0)] {
+            let opts = SmoothOptions {
+                refine: Some(BoundedMotion {
+                    gyro_weight: w,
+                    ..Default::default()
+                }),
+                ..Default::default()
+            };
+            let out = smooth(&g, &a, &dt, &opts);
+            assert_eq!(out.len(), n);
+            for (k, q) in out.iter().enumerate() {
+                let tilt = up_in_body(q).z.clamp(-1.0, 1.0).acos();
+                assert!(
+                    tilt.is_finite() && tilt < 1e-3,
+                    "{w:?}, sample {k}: {tilt} rad"
+                );
+            }
+        }
     }
 }
