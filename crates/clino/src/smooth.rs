@@ -357,6 +357,26 @@ pub fn smooth_in_place(
     smooth_compensated(gyr, acc, dt, opts, progress)
 }
 
+/// What a learning pass took from the rate at sample i, as a bias in the
+/// forward sense (`sign` −1 for a backward pass, whose filter sees −ω and
+/// learns −b): its bias b plus what its motion's gyro scale took,
+/// s_m·(ω − b) ([`clino_core::filter::Dynamic::motion_gyro_scale`]). The
+/// passes that impose the trajectory then subtract all of it as a bias.
+fn rate_correction(f: &Pipeline, gyr: &Vec3, sign: f64) -> Vec3 {
+    let b = f.filter().gyro_bias() * sign;
+    match f.filter().as_dynamic() {
+        Some(d) => {
+            let c = b + d.motion_gyro_scale().component_mul(&(gyr - b));
+            if c.iter().all(|v| v.is_finite()) {
+                c
+            } else {
+                b
+            }
+        }
+        None => b,
+    }
+}
+
 /// The five passes, the combination and the refinement, on a recording
 /// already compensated for the lever arm.
 fn smooth_compensated(
@@ -396,12 +416,12 @@ fn smooth_compensated(
     // pass's estimate, then its mean with the second forward pass's
     let mut bs = vec![Vec3::zeros(); n];
     run(2, true, &mut fb, None, &mut |i, f| {
-        bs[i] = f.filter().gyro_bias() * -1.0
+        bs[i] = rate_correction(f, &gyr[i], -1.0)
     });
     let qb = fb.filter().attitude();
     let mut fc = make(opts, Some((qb, bs[0])), true);
     run(3, false, &mut fc, None, &mut |i, f| {
-        bs[i] = (bs[i] + f.filter().gyro_bias()) * 0.5
+        bs[i] = (bs[i] + rate_correction(f, &gyr[i], 1.0)) * 0.5
     });
     let qc = fc.filter().attitude();
     // what the second forward pass learnt of the accelerometer's scale errors
