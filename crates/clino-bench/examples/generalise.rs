@@ -15,6 +15,11 @@
 //! `name:key=value` form of `clino fuse -f`), so a default can be tried on the
 //! whole grid before it is changed.
 //!
+//! The motions: a segment moved by hand (with 1-s rests, with poses held in
+//! the hand, with the sensor 0.25 m from the joint), a slow robot arm with and
+//! without a 30-Hz vibrating base, a drum turning one way about its
+//! horizontal axis in runs and stops, and the slewing excavator.
+//!
 //! Simulated recordings are scored from the end of their initial rest on
 //! (motion and the rests between moves); BROAD on its `movement` samples.
 //! A non-finite estimate makes a score NaN (never dropped).
@@ -38,8 +43,8 @@ use clino::core::{Attitude, ImuSample, Vec3};
 use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
-use clino::sim::hand::{HandMotion, HandParams};
-use clino::sim::motion::{Offset, Sum, vibration};
+use clino::sim::hand::{HandMotion, HandParams, duty_clock};
+use clino::sim::motion::{Drum, Offset, Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
 use clino::sim::{ImuModel, Motion};
 use clino::smooth::{SmoothOptions, smooth};
@@ -298,6 +303,10 @@ enum Kind {
     /// sensor's tangential and centripetal accelerations turn with it
     /// ([`Offset`]), no lever arm given to any filter.
     Arm,
+    /// A drum turning one way about its horizontal x axis at 2 ± 1 rad/s
+    /// (swing 0.1 Hz) in runs of 20 s with stops of 4 s ([`Drum`]): a gyro
+    /// scale error drifts the tilt at a rate with a mean while it turns.
+    Drum,
     /// The slewing excavator with the lever arm given.
     Slewing,
 }
@@ -311,6 +320,7 @@ impl Kind {
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
             Kind::Arm => "hand,arm0.25m",
+            Kind::Drum => "drum",
             Kind::Slewing => "slewing+lever",
         }
     }
@@ -342,6 +352,27 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 m.initial_rest_s,
                 Some(m.lever_arm_m),
             )
+        }
+        Kind::Drum => {
+            let duty = HandParams {
+                move_s: 20.0,
+                rest_s: 4.0,
+                ramp_s: 1.0,
+                initial_rest_s: 5.0,
+                ..HandParams::by_hand()
+            };
+            let m = Drum {
+                duty,
+                rate_rad_s: 2.0,
+                swing_rad_s: 1.0,
+                swing_hz: 0.1,
+                heading_rad: 0.7 + seed as f64,
+            };
+            let mut rec = simulate(&m, &model, c.rate, seconds, seed, duty.initial_rest_s, None);
+            for (k, s) in rec.samples.iter().enumerate() {
+                rec.rest[k] = rec.scored[k] && duty_clock(&duty, s.t_s).1 == 0.0;
+            }
+            rec
         }
         Kind::Arm => {
             let hand = HandMotion::new(HandParams::by_hand(), seed);
@@ -638,6 +669,9 @@ fn main() -> clino::Result<()> {
         (Kind::SlowVib, Sensor::ScaleMixed, 125.0),
         (Kind::Slow, Sensor::ScaleLow, 125.0),
         (Kind::SlowVib, Sensor::ScaleLow, 125.0),
+        (Kind::Drum, Sensor::Calibrated, 100.0),
+        (Kind::Drum, Sensor::GyroScale, 100.0),
+        (Kind::Drum, Sensor::GyroScale, 25.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),
         (Kind::Slewing, Sensor::Bias, 200.0),
         (Kind::Slewing, Sensor::Bias, 50.0),

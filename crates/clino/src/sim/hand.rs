@@ -226,36 +226,43 @@ impl HandMotion {
 
     /// The clock of the moves and rests alone: rate 1 while moving, 0 at rest.
     pub fn phase_clock(&self, t: f64) -> (f64, f64, f64) {
-        let p = &self.params;
-        let t = t - p.initial_rest_s;
-        if t <= 0.0 {
-            return (0.0, 0.0, 0.0);
-        }
-        let r = p.ramp_s.max(1e-9);
-        // one cycle: ramp up, move, ramp down, rest
-        let cycle = 2.0 * r + p.move_s + p.rest_s;
-        let per_cycle = r + p.move_s; // ∫e over a cycle (each ramp gives r/2)
-        let k = (t / cycle).floor();
-        let u = t - k * cycle;
-        let base = k * per_cycle;
-        if u < r {
-            let (s, ds, is) = step5(u / r);
-            (base + r * is, s, ds / r)
-        } else if u < r + p.move_s {
-            (base + 0.5 * r + (u - r), 1.0, 0.0)
-        } else if u < 2.0 * r + p.move_s {
-            let x = (u - r - p.move_s) / r;
-            let (s, ds, is) = step5(x);
-            (base + 0.5 * r + p.move_s + r * (x - is), 1.0 - s, -ds / r)
-        } else {
-            (base + per_cycle, 0.0, 0.0)
-        }
+        duty_clock(&self.params, t)
     }
 
     /// True while the mount is at rest (the motion clock stopped, or
     /// creeping at [`HandParams::rest_creep`]).
     pub fn at_rest(&self, t: f64) -> bool {
         self.phase_clock(t).1 == 0.0
+    }
+}
+
+/// The clock of the moves and rests of `p` ([`HandParams::move_s`],
+/// [`HandParams::rest_s`], [`HandParams::ramp_s`] and
+/// [`HandParams::initial_rest_s`]): τ(t), its rate e(t) (1 while moving, 0 at
+/// rest, quintic steps between) and e'(t), in closed form.
+pub fn duty_clock(p: &HandParams, t: f64) -> (f64, f64, f64) {
+    let t = t - p.initial_rest_s;
+    if t <= 0.0 {
+        return (0.0, 0.0, 0.0);
+    }
+    let r = p.ramp_s.max(1e-9);
+    // one cycle: ramp up, move, ramp down, rest
+    let cycle = 2.0 * r + p.move_s + p.rest_s;
+    let per_cycle = r + p.move_s; // ∫e over a cycle (each ramp gives r/2)
+    let k = (t / cycle).floor();
+    let u = t - k * cycle;
+    let base = k * per_cycle;
+    if u < r {
+        let (s, ds, is) = step5(u / r);
+        (base + r * is, s, ds / r)
+    } else if u < r + p.move_s {
+        (base + 0.5 * r + (u - r), 1.0, 0.0)
+    } else if u < 2.0 * r + p.move_s {
+        let x = (u - r - p.move_s) / r;
+        let (s, ds, is) = step5(x);
+        (base + 0.5 * r + p.move_s + r * (x - is), 1.0 - s, -ds / r)
+    } else {
+        (base + per_cycle, 0.0, 0.0)
     }
 }
 

@@ -305,6 +305,60 @@ impl<M: Motion> Motion for Offset<M> {
     }
 }
 
+/// A drum: the sensor turning one way about its own x axis, which stays
+/// horizontal at heading `heading_rad` (a tumbler or mixer drum, a rolling
+/// pipe, a wheel, a drill string laid down), in runs and stops: the rate is
+/// ω = e(t)·(ω₀ + ω₁·sin(Ω·τ)), with τ, e the moves-and-rests clock of
+/// `duty` ([`super::hand::duty_clock`]) and Ω = 2π·`swing_hz`. The angle
+/// turned is θ = ω₀·τ + (ω₁/Ω)·(1 − cos Ω·τ), so q = R_z(heading)·R_x(θ),
+/// ω_b = (θ̇, 0, 0) and dω_b/dt = (θ̈, 0, 0) in closed form, with
+/// θ̇ = (ω₀ + ω₁·sin Ωτ)·e and θ̈ = ω₁·Ω·cos(Ωτ)·e² + (ω₀ + ω₁·sin Ωτ)·e'.
+/// The sensor sits on the axis (no linear motion; [`Offset`] puts it off).
+/// A gyro scale error then drifts the tilt at a rate with a mean, which a
+/// filter that takes all it learns in motion for bias keeps when the drum
+/// stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drum {
+    /// Runs and stops: only `move_s`, `rest_s`, `ramp_s` and `initial_rest_s` are read.
+    pub duty: super::hand::HandParams,
+    /// Mean rate ω₀ while turning, rad/s.
+    pub rate_rad_s: f64,
+    /// Swing ω₁ of the rate about its mean, rad/s.
+    pub swing_rad_s: f64,
+    /// Frequency of that swing (of the motion clock), Hz.
+    pub swing_hz: f64,
+    /// Heading of the axis, rad.
+    pub heading_rad: f64,
+}
+
+impl Motion for Drum {
+    fn truth(&self, t_s: f64) -> Truth {
+        let (tau, e, e1) = super::hand::duty_clock(&self.duty, t_s);
+        let (w0, w1) = (self.rate_rad_s, self.swing_rad_s);
+        let big = 2.0 * std::f64::consts::PI * self.swing_hz;
+        let (s, c) = (big * tau).sin_cos();
+        let theta = if big > 0.0 {
+            w0 * tau + w1 / big * (1.0 - c)
+        } else {
+            w0 * tau
+        };
+        let d1 = w0 + w1 * s;
+        let rate = d1 * e;
+        let acc = w1 * big * c * e * e + d1 * e1;
+        let attitude = Attitude::from_axis_angle(&Vec3::z_axis(), self.heading_rad)
+            * Attitude::from_axis_angle(&Vec3::x_axis(), theta);
+        Truth {
+            t_s,
+            attitude,
+            gyr_rad_s: Vec3::new(rate, 0.0, 0.0),
+            ang_acc_rad_s2: Vec3::new(acc, 0.0, 0.0),
+            pos_m: Vec3::zeros(),
+            vel_m_s: Vec3::zeros(),
+            acc_m_s2: Vec3::zeros(),
+        }
+    }
+}
+
 /// A vibrating base (an engine, a robot's drives) at `freq_hz`: linear
 /// vibration of acceleration amplitude `acc_m_s2` per navigation axis (an
 /// [`Orbit`] of amplitude a/ω², phases 0, 1, 2 rad) and angular vibration of
@@ -403,6 +457,40 @@ mod tests {
             let x_n = tr.attitude.transform_vector(&Vec3::x());
             assert_relative_eq!(x_n.x, a.cos(), epsilon = 1e-12);
         }
+    }
+
+    #[test]
+    fn a_drum_turns_about_its_horizontal_x_axis() {
+        let d = Drum {
+            duty: crate::sim::hand::HandParams {
+                move_s: 1.0,
+                rest_s: 0.6,
+                ramp_s: 0.4,
+                initial_rest_s: 0.3,
+                ..crate::sim::hand::HandParams::by_hand()
+            },
+            rate_rad_s: 2.0,
+            swing_rad_s: 1.0,
+            swing_hz: 0.7,
+            heading_rad: 0.5,
+        };
+        // through the initial rest, ramps, the run and the stop
+        check_derivatives(&d);
+        for k in 0..40 {
+            let tr = d.truth(0.1 * k as f64);
+            // body x stays horizontal at the heading
+            let x_n = tr.attitude.transform_vector(&Vec3::x());
+            assert_relative_eq!(
+                x_n,
+                Vec3::new(0.5f64.cos(), 0.5f64.sin(), 0.0),
+                epsilon = 1e-12
+            );
+            assert!(tr.gyr_rad_s.x >= 0.0 && tr.gyr_rad_s.x <= 3.0 + 1e-12);
+        }
+        // at rest before the first run and in the stop after it
+        assert_eq!(d.truth(0.2).gyr_rad_s, Vec3::zeros());
+        assert_eq!(d.truth(2.5).gyr_rad_s, Vec3::zeros());
+        assert_eq!(d.truth(2.5).attitude, d.truth(2.6).attitude);
     }
 
     #[test]
