@@ -30,6 +30,13 @@
 //! its first movement. A steady offset the loop leaves at rest (the unseen
 //! chain's failure mode) shows there, where the whole-run RMSE averages it away.
 //!
+//! For each BROAD recording it also prints a score that needs no optical
+//! reference: the seconds from 1.5 s before each rest to 1 s into it, against
+//! the gyro carried back from the accelerometer's mean in that rest
+//! (`before_rest`). The end of a move is where the unseen chain's offset and
+//! BROAD trial 21's error began; there the optical reference's own
+//! misalignment and latency are as large as the differences between filters.
+//!
 //! `--export DIR` also writes every simulated recording but the slewing
 //! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
@@ -39,7 +46,7 @@
 //! smoother (which `vqf-rs` does not have), condition by condition.
 
 use clino::core::compensate::{LeverArm, MountOptions};
-use clino::core::{Attitude, ImuSample, Vec3};
+use clino::core::{Attitude, AttitudeFilter, ImuSample, Vec3};
 use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
@@ -490,6 +497,76 @@ fn load_broad(path: &PathBuf) -> clino::Result<Rec> {
     Ok(rec)
 }
 
+/// How far before a rest the rest-anchored score reaches, s.
+const BEFORE_REST_S: f64 = 1.5;
+
+/// The seconds into each of a BROAD recording's rests (after movement,
+/// lasting 2 s or more) and the [`BEFORE_REST_S`] before it, scored without
+/// the optical reference: the truth is the gyro (less the bias `dynamic`
+/// learnt at that rest) carried back from the accelerometer's mean over
+/// 0.5–1.5 s into the rest, with `dynamic`'s heading there. The reference's
+/// own misalignment and latency drop out, and so does the accelerometer's
+/// error at rest, which both filters are scored against alike; what is left
+/// is the gyro's error over those 2.5 s (its scale times the angle turned).
+/// RMSE of VQF and `dynamic`, degrees; `None` without such a rest.
+fn before_rest(rec: &Rec, vqf: &[Attitude], dynamic: &FilterSpec) -> Option<(f64, f64)> {
+    let mut p = Pipeline::new(*dynamic);
+    let (mut qd, mut bias) = (Vec::new(), Vec::new());
+    for s in &rec.samples {
+        qd.push(p.update(s).attitude.unwrap_or_else(Attitude::identity));
+        bias.push(p.filter().gyro_bias());
+    }
+    let t = |k: usize| rec.samples[k].t_s;
+    let n = rec.samples.len();
+    let (mut sd, mut sv, mut m) = (0.0, 0.0, 0usize);
+    let mut k = 1;
+    while k < n {
+        if !rec.scored[k - 1] || rec.scored[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        let mut end = k;
+        while end < n && !rec.scored[end] {
+            end += 1;
+        }
+        k = end;
+        if t(end - 1) - t(start) < 2.0 {
+            continue;
+        }
+        let ta = t(start) + 1.0;
+        let Some(ka) = (start..end).find(|&i| t(i) >= ta) else {
+            continue;
+        };
+        let (mut am, mut c) = (Vec3::zeros(), 0.0);
+        for i in start..end {
+            if (t(i) - ta).abs() <= 0.5 {
+                am += rec.samples[i].acc_m_s2;
+                c += 1.0;
+            }
+        }
+        let up = qd[ka].inverse_transform_vector(&Vec3::z());
+        let Some(turn) = nalgebra::UnitQuaternion::rotation_between(&(am / c), &up) else {
+            continue;
+        };
+        let b = bias[end - 1];
+        let mut q = qd[ka] * turn;
+        let mut i = ka;
+        while i > 0 && t(i) > t(start) - BEFORE_REST_S {
+            let step = (rec.samples[i].gyr_rad_s - b) * (t(i) - t(i - 1));
+            q *= nalgebra::UnitQuaternion::from_scaled_axis(step).inverse();
+            i -= 1;
+            sd += inclination_error(&qd[i], &q).powi(2);
+            sv += inclination_error(&vqf[i], &q).powi(2);
+            m += 1;
+        }
+    }
+    (m > 0).then(|| {
+        let f = |s: f64| (s / m as f64).sqrt().to_degrees();
+        (f(sv), f(sd))
+    })
+}
+
 /// Scores of one recording: VQF, then each of `filters`, then offline
 /// dynamic, then dynamic with the mount estimator; then at rest
 /// ([`Rec::rest`]) VQF and the first of `filters`.
@@ -763,24 +840,46 @@ fn main() -> clino::Result<()> {
         && only.as_deref().is_none_or(|o| "broad".contains(o))
     {
         let paths = clino::eval::expand_paths(&[d])?;
+        let mut before = Vec::new();
         let rows: Vec<Vec<f64>> = paths
             .iter()
-            .map(|p| load_broad(p).map(|r| score(&r, &filters, &dynamic)))
+            .map(|p| {
+                load_broad(p).map(|r| {
+                    before.push(before_rest(&r, &run_vqf(&r), &dynamic));
+                    score(&r, &filters, &dynamic)
+                })
+            })
             .collect::<clino::Result<_>>()?;
-        for (p, r) in paths.iter().zip(&rows) {
+        for ((p, r), b) in paths.iter().zip(&rows).zip(&before) {
             let name = p
                 .file_name()
                 .map(|n| n.to_string_lossy().to_string())
                 .unwrap_or_default();
             let k = r.len();
+            let into = b.map_or_else(
+                || "-".to_string(),
+                |(v, d)| format!("vqf {v:.3} dynamic {d:.3} ({:.2})", d / v),
+            );
             println!(
-                "  {name:<44}vqf {:.3}  dynamic {:.3} ({:.2})  offline {:.3}  at rest: vqf {:.3} dynamic {:.3}",
+                "  {name:<44}vqf {:.3}  dynamic {:.3} ({:.2})  offline {:.3}  at rest: vqf {:.3} dynamic {:.3}  into rests (rest-anchored): {into}",
                 r[0],
                 r[1],
                 r[1] / r[0],
                 r[5],
                 r[k - 2],
                 r[k - 1]
+            );
+        }
+        let some: Vec<(f64, f64)> = before.iter().flatten().copied().collect();
+        if !some.is_empty() {
+            let k = some.len() as f64;
+            let (v, d) = some
+                .iter()
+                .fold((0.0, 0.0), |(a, b), (v, d)| (a + v / k, b + d / k));
+            println!(
+                "  into rests, rest-anchored ({} recordings, {BEFORE_REST_S} s before each rest to 1 s into it): vqf {v:.3}  dynamic {d:.3} ({:.2})",
+                some.len(),
+                d / v
             );
         }
         let label = format!("BROAD ({})", rows.len());
