@@ -26,13 +26,14 @@
 //! # Equations (per sample, dt)
 //!
 //! ```text
-//! ω  = ω_meas − b
+//! ω  = (ω_meas − b)·(1 − s − s_m)             (s: rest pairs', s_m: the motion's)
 //! q  ← q ⊗ exp(ω·dt/2)
 //! f  = q ⊗ f_meas ⊗ q*                       (specific force, ENU)
 //! v  ← v + (f_E, f_N)·dt − k_u·v·dt
 //! c  = (k_θ/g)·(v_N, −v_E, 0)·dt             (nav-frame tilt correction, rad)
 //! q  ← exp(c/2) ⊗ q
-//! b  ← b − (k_b/k_θ)·(q* ⊗ c ⊗ q)
+//! Δ  = −(k_b/k_θ)·(q* ⊗ c ⊗ q)                (learnt rate error, body)
+//! bᵢ ← bᵢ + Δᵢ·ω_s²/(ω_s² + ωᵢ²),  s_m,ᵢ ← s_m,ᵢ + Δᵢ·ωᵢ/(ω_s² + ωᵢ²)
 //! ```
 //!
 //! Linearised per horizontal axis with U = v/g the loop is
