@@ -62,6 +62,8 @@ def test_stages_offline_and_lever_arm_equal_cli(cli, tmp_path):
     rt = clino.fuse_full(g, a, t=t)["sensor_errors"]
     assert set(rt) >= {"rest_pairs", "accel_bias_m_s2", "accel_bias_sigma_m_s2", "probability"}
     assert all(0.0 <= p <= 1.0 for p in rt["probability"])
+    # and the gyro scale its loop learnt in motion, on top of the pairs'
+    assert len(rt["motion_gyro_scale"]) == 3 and all(abs(s) < 0.5 for s in rt["motion_gyro_scale"])
     table = cli_fuse(cli, EXCERPT, tmp_path, "-f", "mahony", "--lever-arm", "0.1,-0.05,0.02")
     compare(clino.fuse_full(g, a, t=t, filter="mahony", lever_arm=(0.1, -0.05, 0.02)), table)
 

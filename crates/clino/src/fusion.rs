@@ -612,6 +612,11 @@ pub struct SensorErrorReport {
     /// scale, accelerometer bias (prior 1/2; the values above are already
     /// weighted by it).
     pub probability: [f64; 3],
+    /// The gyro scale errors the loop learnt in motion on top of
+    /// `gyro_scale` (fraction per body axis;
+    /// [`clino_core::filter::Dynamic::motion_gyro_scale`]): the rate is
+    /// corrected by both.
+    pub motion_gyro_scale: [f64; 3],
 }
 
 impl SensorErrorReport {
@@ -628,6 +633,7 @@ impl SensorErrorReport {
             accel_scale: a(d.accel_scale()),
             accel_bias_m_s2: a(d.accel_bias()),
             probability: d.sensor_error_probabilities(),
+            motion_gyro_scale: a(d.motion_gyro_scale()),
         }
     }
 }
@@ -1036,6 +1042,14 @@ mod tests {
         let sd = e.gyro_scale_sigma[0];
         assert!(
             sd > 0.0 && sd < 0.02 && (e.gyro_scale[0] - 0.02).abs() < 3.0 * sd,
+            "{e:?}"
+        );
+        // the loop's motion scale is reported, the same as the filter's, and
+        // small beside the pairs' (a hand turns back and forth)
+        assert!(
+            e.motion_gyro_scale
+                .iter()
+                .all(|v| v.is_finite() && v.abs() < 0.005),
             "{e:?}"
         );
         let (rep, _) = run(&text, FilterKind::Mahony, false).unwrap();

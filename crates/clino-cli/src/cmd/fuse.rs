@@ -109,15 +109,19 @@ fn sensor_error_summary(e: &clino::fusion::SensorErrorReport) -> String {
         )
     };
     let p = e.probability;
+    let m = e.motion_gyro_scale;
     format!(
-        "clino fuse: learnt from {} rest pairs (1σ; probability that the error is there at all): gyro scale {} % ({:.2}), accelerometer scale {} % ({:.2}), accelerometer bias {} mg ({:.2})",
+        "clino fuse: learnt from {} rest pairs (1σ; probability that the error is there at all): gyro scale {} % ({:.2}), accelerometer scale {} % ({:.2}), accelerometer bias {} mg ({:.2}); and in motion by the loop, gyro scale ({:+.2}, {:+.2}, {:+.2}) % more",
         e.rest_pairs,
         three(e.gyro_scale, e.gyro_scale_sigma, 100.0),
         p[0],
         three(e.accel_scale, e.accel_scale_sigma, 100.0),
         p[1],
         three(e.accel_bias_m_s2, e.accel_bias_sigma_m_s2, mg),
-        p[2]
+        p[2],
+        m[0] * 100.0,
+        m[1] * 100.0,
+        m[2] * 100.0
     )
 }
 

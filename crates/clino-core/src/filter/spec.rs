@@ -243,7 +243,7 @@ const DYNAMIC_PARAMS: [ParamInfo; 25] = [
         "scale_rate_rad_s",
         "rad/s",
         POSITIVE,
-        "rotation rate at which the bandwidth is √2·p₀",
+        "rate where gyro scale drift equals bias drift: bandwidth √2·p₀; motion learning half to each",
     ),
     p(
         "rest_gyr_rad_s",

@@ -205,7 +205,8 @@ def fuse_full(
     ``gyro_only``, ``dropout``, ``saturated``); ``status_code`` (N,) uint8 (index
     in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts);
     ``sensor_errors`` (dict: what ``dynamic`` learnt from rest to rest, with 1σ
-    and probabilities, as ``clino fuse`` prints it; None offline or for another
+    and probabilities, and the gyro scale its loop learnt in motion
+    (``motion_gyro_scale``), as ``clino fuse`` prints it; None offline or for another
     filter); ``mount`` (dict: the online accelerometer bias and lever arm with
     their 1σ, when the configuration estimates them; else None). The same
     numbers as the columns of ``clino fuse``.
