@@ -3250,6 +3250,11 @@ mod tests {
         assert!(f.rest_pairs() >= 1);
         let s = f.gyro_scale().x + f.motion_gyro_scale().x;
         assert!((s - 0.02).abs() < 0.006, "{s}");
+        // a bias given is the whole rate correction (the smoother's passes
+        // that impose the learnt trajectory): the motion's scale goes
+        assert!(f.motion_gyro_scale().x > 0.0);
+        f.set_gyro_bias(f.gyro_bias());
+        assert_eq!(f.motion_gyro_scale(), Vector3::zeros());
     }
 
     #[test]
