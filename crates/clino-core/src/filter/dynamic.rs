@@ -86,8 +86,9 @@
 //!   as soon as the mount is still.
 //! * **What the loop learns in motion.** The loop's learnt rate error is
 //!   split per body axis between the bias and a gyro scale of the motion,
-//!   by the share of each in the drift (σ_b² against (κ·ωᵢ)², crossing at
-//!   `scale_rate_rad_s`): learnt all as bias, a motion that keeps turning
+//!   by the share of each in the drift (σ_b² against (κ·ωᵢ)², κ the scale's
+//!   remaining doubt, crossing at `scale_rate_rad_s` for a 0.5 % doubt):
+//!   learnt all as bias, a motion that keeps turning
 //!   one way teaches the bias its scale error times the mean rate, and when
 //!   the turning stops that bias tilts the estimate until the next rest
 //!   ([`Dynamic::motion_gyro_scale`]).
@@ -142,12 +143,14 @@ pub struct DynamicParams {
     /// ω_s, rad/s: rotation rate at which a gyro scale-factor error drifts as
     /// much as its bias. Default 2 rad/s (≈ 0.01 rad/s design drift / 0.5 %
     /// scale-factor error). The loop bandwidth is √2·p₀ at this rate, and the
-    /// loop's motion learning gives the bias the share ω_s²/(ω_s² + ωᵢ²) of
-    /// what it learns on body axis i and the motion's gyro scale the rest
+    /// loop's motion learning gives the bias the share ω²/(ω² + ωᵢ²) of what
+    /// it learns on body axis i and the motion's gyro scale the rest
     /// ([`Dynamic::motion_gyro_scale`]; with `gyro_scale_sigma` = 0 the bias
-    /// takes all). Taking all as bias, BROAD (12 recordings) gave 0.657° in
-    /// real time, at rest 1.08× VQF; with the split 0.644°, at rest 1.05×
-    /// (BENCHMARKS.md).
+    /// takes all), with ω = ω_s·0.5 %/κᵢ, κᵢ the scale's remaining doubt on
+    /// that axis (the rest pairs' learnt 1σ, before them σ₀/√2). Taking all
+    /// as bias, BROAD (12 recordings) gave 0.657° in real time, at rest 1.08×
+    /// VQF; with the split at ω_s 0.644° (1.05×); with the doubt 0.638°
+    /// (1.03×) (BENCHMARKS.md).
     pub scale_rate_rad_s: f64,
     /// Rest threshold on |ω_f − ω̄| and on |ω_f − b|, rad/s, where ω_f is the rate
     /// low-passed at `vibration_tau_s`, ω̄ its `rest_lowpass_tau_s` low-pass and b the bias when
@@ -829,6 +832,16 @@ impl ScaleLearner {
         if w.is_finite() { w } else { 0.0 }
     }
 
+    /// The gyro scale's remaining 1σ per axis: the prior mixture's σ₀/√2
+    /// before the first rest pair, then the learnt one.
+    fn scale_sigma(&self, p: &DynamicParams) -> Vec3 {
+        if self.pairs == 0 {
+            Vec3::repeat(p.gyro_scale_sigma * core::f64::consts::FRAC_1_SQRT_2)
+        } else {
+            Vec3::new(self.sd[0], self.sd[1], self.sd[2])
+        }
+    }
+
     /// The rate at which a motion at body rate `w` adds tilt variance through
     /// the gyro's remaining scale uncertainty, rad²/s: Σᵢ (κᵢ·ωᵢ)²·T, with κᵢ
     /// the learnt 1σ of the scale of axis i (before the first pair, the
@@ -1002,10 +1015,12 @@ impl ScaleLearner {
 /// by Δᵢ·ωᵢ²/(ω_s² + ωᵢ²). Together the rate falls by Δᵢ, as it did when the
 /// bias took all of it, so the loop's dynamics are unchanged; what changes is
 /// what the learnt correction does when the rate changes. The split is the
-/// share of each in the drift's variance, σ_b² against (κ·ωᵢ)², with
-/// ω_s = σ_b/κ the rate at which a scale error drifts as much as the bias
-/// ([`DynamicParams::scale_rate_rad_s`], the same crossover that raises the
-/// loop's bandwidth). Without it (all to the bias) a motion that turns one
+/// share of each in the drift's variance, σ_b² against (κ·ωᵢ)², crossing at
+/// σ_b/κ, the rate at which a scale error of the size still in doubt drifts
+/// as much as the bias: [`DynamicParams::scale_rate_rad_s`] (the crossover
+/// that raises the loop's bandwidth) for the design doubt of 0.5 %, higher
+/// once rest pairs have pinned the scale down, lower before them (the prior
+/// mixture's 2.1 %: 0.47 rad/s). Without it (all to the bias) a motion that turns one
 /// way for long (a spinning rig, a drum, a hand that keeps turning a
 /// segment) teaches the bias its scale error times the mean rate, and when
 /// the turning stops that "bias" tilts the estimate until the next rest
@@ -1022,10 +1037,14 @@ struct MotionLearning {
 }
 
 impl MotionLearning {
-    /// The split at the corrected rate `w`; all to the bias when the gyro's
-    /// scale is not in doubt (`gyro_scale_sigma` = 0) or ω_s is not positive
-    /// and finite.
-    fn new(gain: f64, w: &Vec3, p: &DynamicParams) -> Self {
+    /// The split at the corrected rate `w`, with `kappa` the gyro scale's
+    /// remaining 1σ per axis (the learner's: its prior mixture before the
+    /// first rest pair, σ₀/√2, then what the pairs leave): the crossover is
+    /// ω_s·κ₀/κᵢ, where ω_s = `scale_rate_rad_s` is set for the design
+    /// scale error κ₀ ([`DESIGN_SCALE_ERROR`]; the bias drift it stands for
+    /// is ω_s·κ₀). All to the bias when the gyro's scale is not in doubt
+    /// (`gyro_scale_sigma` = 0), or ω_s is not positive and finite.
+    fn new(gain: f64, w: &Vec3, p: &DynamicParams, kappa: &Vec3) -> Self {
         let ws = p.scale_rate_rad_s;
         let mut m = Self {
             gain,
@@ -1033,8 +1052,14 @@ impl MotionLearning {
             to_scale: [0.0; 3],
         };
         if p.gyro_scale_sigma > 0.0 && ws > 0.0 && ws.is_finite() {
-            let ws2 = ws * ws;
             for i in 0..3 {
+                let k = kappa[i].max(KAPPA_MIN);
+                let wsi = if k.is_finite() {
+                    ws * DESIGN_SCALE_ERROR / k
+                } else {
+                    ws
+                };
+                let ws2 = wsi * wsi;
                 let d = ws2 + w[i] * w[i];
                 if d.is_finite() {
                     m.to_bias[i] = ws2 / d;
@@ -1061,6 +1086,15 @@ fn arc_miss(a: &Vec3, b: &Vec3) -> Vec3 {
     }
     t * (crate::math::atan2(sin, cos) / sin)
 }
+
+/// The gyro scale error `scale_rate_rad_s` is set for, 0.5 % (its default,
+/// 2 rad/s, is the 0.01 rad/s of bias drift the loop is designed for over
+/// this): the split of [`MotionLearning`] moves its crossover by κ₀/κ with
+/// the scale's actual doubt κ.
+const DESIGN_SCALE_ERROR: f64 = 0.005;
+/// Least scale doubt the split's crossover uses (0.01 %): a scale pinned
+/// down further leaves the split at 50× ω_s.
+const KAPPA_MIN: f64 = 1e-4;
 
 /// First-order sensitivity of the filter's state to a constant offset δa of
 /// its accelerometer input (body frame, m/s²), carried along the run: had
@@ -1918,7 +1952,7 @@ impl AttitudeFilter for Dynamic {
                 p.bias_gain * p0 * p0 * self.inv.tilt_gain / bw
             };
             learning = (p.learn_bias && kb_over_kt > 0.0 && self.time > p.start_time_s)
-                .then(|| MotionLearning::new(kb_over_kt, &w, p));
+                .then(|| MotionLearning::new(kb_over_kt, &w, p, &self.gsl.scale_sigma(p)));
             // --- velocity residual and tilt correction
             let decay = 1.0 - one_minus_exp_neg(ku * dt);
             self.vel[0] = (self.vel[0] + fe * dt) * decay;
@@ -3262,7 +3296,9 @@ mod tests {
         let p = DynamicParams::default();
         let ws = p.scale_rate_rad_s;
         let w = Vector3::new(0.0, ws, 3.0 * ws);
-        let m = MotionLearning::new(0.1, &w, &p);
+        // the design doubt κ₀: the crossover is ω_s itself
+        let k0 = Vector3::repeat(DESIGN_SCALE_ERROR);
+        let m = MotionLearning::new(0.1, &w, &p, &k0);
         assert_eq!(m.to_bias, [1.0, 0.5, 0.1]);
         assert_eq!(m.to_scale[0], 0.0);
         assert_relative_eq_f64(m.to_scale[1], 0.5 / ws);
@@ -3272,15 +3308,24 @@ mod tests {
         for i in 0..3 {
             assert_relative_eq_f64(m.to_bias[i] + m.to_scale[i] * w[i], 1.0);
         }
+        // twice the doubt halves the crossover: at ω_s/2 the shares are equal
+        let half = Vector3::repeat(0.5 * ws);
+        let m = MotionLearning::new(0.1, &half, &p, &(k0 * 2.0));
+        for i in 0..3 {
+            assert_relative_eq_f64(m.to_bias[i], 0.5);
+        }
         // no doubt in the gyro's scale, or no crossover: all to the bias
         let mut sure = p;
         sure.gyro_scale_sigma = 0.0;
-        assert_eq!(MotionLearning::new(0.1, &w, &sure).to_bias, [1.0; 3]);
+        assert_eq!(MotionLearning::new(0.1, &w, &sure, &k0).to_bias, [1.0; 3]);
         let mut never = p;
         never.scale_rate_rad_s = f64::INFINITY;
-        assert_eq!(MotionLearning::new(0.1, &w, &never).to_scale, [0.0; 3]);
-        // a non-finite rate keeps the bias's share
-        let m = MotionLearning::new(0.1, &Vector3::new(f64::NAN, 1e300, 0.0), &p);
+        assert_eq!(MotionLearning::new(0.1, &w, &never, &k0).to_scale, [0.0; 3]);
+        // a non-finite rate or doubt keeps the bias's share
+        let nan = Vector3::new(f64::NAN, 1e300, 0.0);
+        let m = MotionLearning::new(0.1, &nan, &p, &k0);
+        assert!(m.to_bias.iter().chain(&m.to_scale).all(|v| v.is_finite()));
+        let m = MotionLearning::new(0.1, &w, &p, &Vector3::repeat(f64::NAN));
         assert_eq!(m.to_bias[0], 1.0);
         assert!(m.to_bias.iter().chain(&m.to_scale).all(|v| v.is_finite()));
     }
