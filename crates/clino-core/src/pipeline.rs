@@ -289,6 +289,9 @@ impl Pipeline {
         if let Some(d) = self.filter.as_dynamic_mut() {
             d.track_accel_input(on);
             d.track_arm_input(arm);
+            // the turns make the accelerometer's bias observable: no pull to
+            // it there while it is estimated (Dynamic::set_turn_pull)
+            d.set_turn_pull(!on);
             // the mount estimator observes the gyro-only attitude through it
             d.track_tilt_correction(observed);
         }

@@ -360,6 +360,8 @@ pub struct Dynamic {
     bias: Vec3,
     /// The corrected rate of the previous step (the coning term).
     w_prev: Vec3,
+    /// The rest pull at unaccelerated turns ([`Dynamic::set_turn_pull`]).
+    turn_pull: bool,
     /// Gyro scale errors learnt through the loop in this motion
     /// ([`Dynamic::motion_gyro_scale`]): the rate used is
     /// (ω_meas − b)·(1 − s − s_m).
@@ -576,7 +578,8 @@ const HELD_GYR_RAD_S: f64 = 0.034_906_585_039_886_59;
 /// rest pairs at such turns too made the calibrated slow arm worse (0.84 →
 /// 1.00× at 100 Hz, 1.44× at 1 kHz: the learner took the turns' propagation
 /// error for sensor error), so a pair still needs [`QUICK_MIN_S`] under
-/// [`HELD_GYR_RAD_S`].
+/// [`HELD_GYR_RAD_S`]. Off while the pipeline estimates the accelerometer's
+/// bias from the turns ([`Dynamic::set_turn_pull`]).
 const HELD_TURN_RAD_S: f64 = 0.316_227_766_016_837_94;
 
 /// The specific force as learnt accelerometer errors correct it,
@@ -1282,6 +1285,7 @@ impl Dynamic {
             bias: Vec3::zeros(),
             w_prev: Vec3::zeros(),
             motion_scale: Vec3::zeros(),
+            turn_pull: true,
             vel: [0.0; 2],
             gyr_f: Vec3::zeros(),
             acc_f: Vec3::zeros(),
@@ -1547,6 +1551,19 @@ impl Dynamic {
         let fit = (l.r2 / (SCALE_OBS_NOISE_RAD * SCALE_OBS_NOISE_RAD)).clamp(0.0, 1.0);
         let d = scale.max(fit);
         if d.is_finite() { d } else { 1.0 }
+    }
+
+    /// Allow the rest pull at turns without acceleration (`true`, the
+    /// default: the specific force turning only as the gyro says, up to
+    /// 0.32 rad/s) or only at held poses (under 2°/s). The pipeline turns it
+    /// off while its mount estimator estimates the accelerometer's bias from
+    /// the turns (rotation modulation): a pull to the accelerometer in the
+    /// turns that make its bias observable feeds the bias into the tilt there
+    /// (`clino demo`'s slewing excavator, `--lever-arm` with the bias
+    /// estimated: 0.050° with it, 0.042° without, BENCHMARKS.md). Kept
+    /// through [`AttitudeFilter::reset`].
+    pub fn set_turn_pull(&mut self, on: bool) {
+        self.turn_pull = on;
     }
 
     /// The gyro scale errors the loop has learnt in the current motion
@@ -1851,7 +1868,14 @@ impl AttitudeFilter for Dynamic {
             let w_lp = l.qg - self.bias;
             let turned = l.held_ref - w_lp.cross(&l.held_ref) * dt;
             let w2_lp = w_lp.norm_squared();
-            if w2_lp < HELD_TURN_RAD_S * HELD_TURN_RAD_S
+            // an unaccelerated turn only where it is allowed
+            // ([`Dynamic::set_turn_pull`], HELD_TURN_RAD_S)
+            let lim = if !self.turn_pull {
+                HELD_GYR_RAD_S
+            } else {
+                HELD_TURN_RAD_S
+            };
+            if w2_lp < lim * lim
                 && (l.qa - turned).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
             {
                 l.held_ref = turned;
@@ -2126,10 +2150,12 @@ impl AttitudeFilter for Dynamic {
 
     fn reset(&mut self) {
         let (track, corr, arm) = (self.sens.is_some(), self.corr.is_some(), self.arm.is_some());
+        let turn_pull = self.turn_pull;
         *self = Self::new(self.params);
         self.track_accel_input(track);
         self.track_tilt_correction(corr);
         self.track_arm_input(arm);
+        self.turn_pull = turn_pull;
     }
 
     fn gyro_bias(&self) -> Vec3 {
@@ -3141,8 +3167,19 @@ mod tests {
     /// still: creeping on about x at `creep` rad/s; and whether the filter
     /// took it for rest at the end.
     fn held_after_scaled_turn(params: DynamicParams, creep: f64) -> (f64, f64, bool) {
+        held_after_scaled_turn_with(params, creep, true)
+    }
+
+    /// [`held_after_scaled_turn`], with the rest pull at unaccelerated turns
+    /// on (`turn_pull`, the default) or off ([`Dynamic::set_turn_pull`]).
+    fn held_after_scaled_turn_with(
+        params: DynamicParams,
+        creep: f64,
+        turn_pull: bool,
+    ) -> (f64, f64, bool) {
         let dt = 0.01;
         let mut f = Dynamic::new(params);
+        f.set_turn_pull(turn_pull);
         let mut noise = Noise(23);
         let mut q = UnitQuaternion::identity();
         let (mut at_start, mut at_end) = (0.0, 0.0);
@@ -3472,6 +3509,13 @@ mod tests {
         assert!(!off.2 && !on.2, "a turn is not a rest");
         // 5 s in: 2.0° with the pull off (and with a held pose's limit), 1.1° on
         assert!(on.0 < 0.7 * off.0, "{on:?} against {off:?}");
+        // not where the turn pull is off (the pipeline's mount estimator):
+        // there the turn is left to the loop, as with the pull off
+        let held_only = held_after_scaled_turn_with(DynamicParams::default(), creep, false);
+        assert!(
+            (held_only.0 - off.0).abs() < 0.1 * off.0,
+            "{held_only:?} against {off:?}"
+        );
         // no pair from the turn: the learner has seen one rest and no second
         let dt = 0.01;
         let mut f = Dynamic::default();
