@@ -2758,6 +2758,38 @@ mod tests {
         (q, w, f)
     }
 
+    /// The accelerometer-shift tests' three runs over `n` samples of
+    /// `motion(k)` (gyro, specific force): A reads f + `da` from the start; B,
+    /// which tracks its input's sensitivity, reads f until sample `k_shift`,
+    /// is shifted by `da` there and reads f + `da` from then on; C is B
+    /// without the shift. `at_shift(A, B, C)` is read just after the shift.
+    /// Returns A and B at the end and that reading.
+    fn run_accel_shift<R>(
+        dt: f64,
+        n: usize,
+        k_shift: usize,
+        da: Vec3,
+        mut motion: impl FnMut(usize) -> (Vec3, Vec3),
+        at_shift: impl Fn(&Dynamic, &Dynamic, &Dynamic) -> R,
+    ) -> (Dynamic, Dynamic, R) {
+        let mut a = Dynamic::default();
+        let mut b = Dynamic::default();
+        b.track_accel_input(true);
+        let mut c = b.clone();
+        let mut report = None;
+        for k in 0..n {
+            if k == k_shift {
+                b.shift_accel_input(da);
+                report = Some(at_shift(&a, &b, &c));
+            }
+            let (gyr, acc) = motion(k);
+            a.update(gyr, acc + da, dt);
+            b.update(gyr, if k >= k_shift { acc + da } else { acc }, dt);
+            c.update(gyr, acc, dt);
+        }
+        (a, b, report.expect("the shift falls within the run"))
+    }
+
     #[test]
     fn shifting_the_accelerometer_input_equals_having_run_with_it() {
         // A reads f + δa from the start; B reads f until t = 13 s (3 s into the
@@ -2768,32 +2800,20 @@ mod tests {
         let dt = 0.01;
         let da = Vector3::new(0.07, -0.1, 0.05); // (7, −10, 5) mg
         let gb = Vector3::new(0.3, -0.2, 0.1) * core::f64::consts::PI / 180.0;
-        let mut a = Dynamic::default();
-        let mut b = Dynamic::default();
-        b.track_accel_input(true);
-        let mut c = b.clone();
         let mut noise = Noise(21);
-        let t_shift = 13.0;
-        let mut report = None;
-        for k in 0..(20.0 / dt) as usize {
-            let t = k as f64 * dt;
-            let (_, w, f) = turning(t);
-            let (gyr, acc) = (w + gb + noise.vec(0.001), f + noise.vec(0.03));
-            a.update(gyr, acc + da, dt);
-            let shifted = t >= t_shift;
-            b.update(gyr, if shifted { acc + da } else { acc }, dt);
-            c.update(gyr, acc, dt);
-            if (t - t_shift).abs() < 0.5 * dt {
-                b.shift_accel_input(da);
-                report = Some((
+        let motion = |k: usize| {
+            let (_, w, f) = turning(k as f64 * dt);
+            (w + gb + noise.vec(0.001), f + noise.vec(0.03))
+        };
+        let (a, b, (e_b, e_c, gb_b, gb_c)) =
+            run_accel_shift(dt, 2000, 1300, da, motion, |a, b, c| {
+                (
                     tilt_err(&b.attitude(), &a.attitude()),
                     tilt_err(&c.attitude(), &a.attitude()),
                     (b.gyro_bias() - a.gyro_bias()).norm(),
                     (c.gyro_bias() - a.gyro_bias()).norm(),
-                ));
-            }
-        }
-        let (e_b, e_c, gb_b, gb_c) = report.unwrap();
+                )
+            });
         // without the shift the tilt differs by about |δa_h|/g (0.7°), the bias a little
         assert!(e_c > 0.3f64.to_radians(), "{}°", e_c.to_degrees());
         assert!(
@@ -2823,14 +2843,10 @@ mod tests {
         // rotation it adds, −R·diag(ω)·S·δa per second.
         let dt = 0.01;
         let da = Vector3::new(0.07, -0.1, 0.05);
-        let mut a = Dynamic::default();
-        let mut b = Dynamic::default();
-        b.track_accel_input(true);
-        let mut c = b.clone();
         let mut noise = Noise(41);
         let tau = 2.0 * core::f64::consts::PI;
-        let (t_shift, mut angle, mut report) = (40.0, 0.0, None);
-        for k in 0..(45.0 / dt) as usize {
+        let mut angle = 0.0;
+        let motion = |k: usize| {
             let t = (k as f64 + 0.5) * dt;
             let rate = if t < 10.0 {
                 0.0
@@ -2841,22 +2857,17 @@ mod tests {
             let q = UnitQuaternion::from_scaled_axis(Vector3::new(angle, 0.0, 0.0));
             let gyr = Vector3::new(rate * 1.02, 0.0, 0.0) + noise.vec(0.001);
             let acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0)) + noise.vec(0.03);
-            a.update(gyr, acc + da, dt);
-            let k_shift = (t_shift / dt) as usize;
-            let shifted = k >= k_shift;
-            b.update(gyr, if shifted { acc + da } else { acc }, dt);
-            c.update(gyr, acc, dt);
-            if k == k_shift {
-                b.shift_accel_input(da);
-                report = Some((
+            (gyr, acc)
+        };
+        let (a, b, (e_b, e_c, s_b, s_c)) =
+            run_accel_shift(dt, 4500, 4000, da, motion, |a, b, c| {
+                (
                     tilt_err(&b.attitude(), &a.attitude()),
                     tilt_err(&c.attitude(), &a.attitude()),
                     (b.motion_gyro_scale() - a.motion_gyro_scale()).norm(),
                     (c.motion_gyro_scale() - a.motion_gyro_scale()).norm(),
-                ));
-            }
-        }
-        let (e_b, e_c, s_b, s_c) = report.unwrap();
+                )
+            });
         assert!(a.motion_gyro_scale().x > 0.002, "{}", a.motion_gyro_scale());
         assert!(
             s_c > 1e-5,
