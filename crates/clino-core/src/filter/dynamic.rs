@@ -34,6 +34,8 @@
 //! q  ← exp(c/2) ⊗ q
 //! Δ  = −(k_b/k_θ)·(q* ⊗ c ⊗ q)                (learnt rate error, body)
 //! bᵢ ← bᵢ + Δᵢ·ω_s²/(ω_s² + ωᵢ²),  s_m,ᵢ ← s_m,ᵢ + Δᵢ·ωᵢ/(ω_s² + ωᵢ²)
+//! after a rest pair: s_m,ᵢ ← s_m,ᵢ − ρᵢ·(s_m,ᵢ − s̄_m,ᵢ)  (s̄_m the segment's
+//!   |ωᵢ|-weighted mean, ρᵢ the share of s's doubt on axis i the pair removed)
 //! ```
 //!
 //! Linearised per horizontal axis with U = v/g the loop is
@@ -1628,7 +1630,8 @@ impl Dynamic {
     /// that grows with the rate ([`DynamicParams::scale_rate_rad_s`]), which
     /// goes when the turning stops instead of staying as a bias. Kept
     /// across rests (a scale error is the sensor's; the rest pairs learn what
-    /// it leaves), at most 3·[`DynamicParams::gyro_scale_sigma`] per axis,
+    /// it leaves; after a pair it settles to its mean over the pair's
+    /// segment as far as the pair informed that axis), at most 3·[`DynamicParams::gyro_scale_sigma`] per axis,
     /// always zero with `gyro_scale_sigma` = 0, and zeroed by
     /// [`Dynamic::set_gyro_bias`] (a bias given is the whole rate correction).
     pub fn motion_gyro_scale(&self) -> Vec3 {
