@@ -821,18 +821,25 @@ const TURN_S: f64 = 1.0;
 impl ScaleLearner {
     /// How far the accelerometer's direction at this rest is trusted against
     /// the tilt a move leaves: σ_t²/(σ_t² + σ_dir²), with
-    /// σ_dir² = |P_u·diag(u∘σ_d)|² + (|σ_b|/g)² from the accelerometer scale
-    /// and bias uncertainty the learner has left (its priors before the first
-    /// pair), at the pose of
-    /// the low-passed specific force `f` (not the raw sample: vibration would
-    /// modulate the weight and rectify).
+    /// σ_dir² = |P_u·diag(u∘σ_d)|² + |P_u·diag(σ_b)|²/g², the variance of the
+    /// direction that the accelerometer scale and bias uncertainty the
+    /// learner has left turns (a bias along u changes the magnitude only),
+    /// at the pose of the low-passed specific force `f` (not the raw sample:
+    /// vibration would modulate the weight and rectify). Before the first
+    /// pair the σ are the prior mixture's, σ₀/√2 (each group present with
+    /// probability 1/2, as for the gyro scale, [`ScaleLearner::scale_sigma`]);
+    /// after it the learnt mixture's.
     fn rest_trust(&self, p: &DynamicParams, f: &Vec3) -> f64 {
         let (sd_d, sd_b) = if self.pairs == 0 {
-            (Vec3::repeat(p.accel_scale_sigma), p.accel_bias_sigma)
+            let h = core::f64::consts::FRAC_1_SQRT_2;
+            (
+                Vec3::repeat(p.accel_scale_sigma * h),
+                Vec3::repeat(p.accel_bias_sigma * h),
+            )
         } else {
             (
                 Vec3::new(self.sd[3], self.sd[4], self.sd[5]),
-                Vec3::new(self.sd[6], self.sd[7], self.sd[8]).norm(),
+                Vec3::new(self.sd[6], self.sd[7], self.sd[8]),
             )
         };
         let n2 = f.norm_squared();
@@ -840,6 +847,7 @@ impl ScaleLearner {
             return 0.0;
         }
         let u = f / sqrt(n2);
+        let g = p.gravity_m_s2;
         let mut v = 0.0;
         for i in 0..3 {
             // column i of P_u·diag(u∘σ_d): (e_i − u·u_i)·u_i·σ_i
@@ -847,9 +855,9 @@ impl ScaleLearner {
             let mut e = -u * (u[i] * c);
             e[i] += c;
             v += e.norm_squared();
+            // column i of P_u·diag(σ_b)/g: |e_i − u·u_i|² = 1 − u_i²
+            v += (1.0 - u[i] * u[i]) * (sd_b[i] / g) * (sd_b[i] / g);
         }
-        let g = p.gravity_m_s2;
-        v += (sd_b / g) * (sd_b / g);
         let st2 = REST_TILT_SIGMA_RAD * REST_TILT_SIGMA_RAD + self.move_var;
         let w = st2 / (st2 + v);
         if w.is_finite() { w } else { 0.0 }
@@ -3685,10 +3693,21 @@ mod tests {
         let level = l.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8));
         assert!((level - st2 / (st2 + b2)).abs() < 1e-12, "{level}");
         // 45° about x, u = (0, 1, 1)/√2: columns y and z of P_u·diag(u∘σ)
-        // each have |·|² = σ²/4, so σ_dir² = σ²/2 + (σ_b/g)²
+        // each have |·|² = σ²/4 with the prior mixture's σ² = 0.03²/2, so
+        // σ_dir² = 0.03²/4 + (σ_b/g)² (the bias's three columns: 1 + 1/2 + 1/2
+        // times its mixture's σ_b²/2)
         let tilted = l.rest_trust(&p, &Vector3::new(0.0, 6.0, 6.0));
-        let want = st2 / (st2 + 0.03 * 0.03 / 2.0 + b2);
+        let want = st2 / (st2 + 0.03 * 0.03 / 4.0 + b2);
         assert!((tilted - want).abs() < 1e-12, "{tilted} against {want}");
+        // after a pair, the learnt σ: a bias doubt along gravity does not
+        // turn the direction; across it, it does (level: z does not count)
+        let mut learnt = ScaleLearner::new();
+        learnt.pairs = 1;
+        learnt.sd[6] = 0.05;
+        learnt.sd[8] = 0.3;
+        let level = learnt.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8));
+        let bx = (0.05 / p.gravity_m_s2) * (0.05 / p.gravity_m_s2);
+        assert!((level - st2 / (st2 + bx)).abs() < 1e-12, "{level}");
         // no specific force, or NaN: no trust
         assert_eq!(l.rest_trust(&p, &Vector3::zeros()), 0.0);
         assert_eq!(l.rest_trust(&p, &Vector3::new(f64::NAN, 0.0, 9.8)), 0.0);
