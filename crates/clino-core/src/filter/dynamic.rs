@@ -120,9 +120,9 @@
 //!   an idling engine shakes the sensor by metres per second squared at tens
 //!   of hertz, a boom at a few hertz, without moving the mount.
 //!
-//! * **Lost samples.** A step longer than the sample period is a gap (a
-//!   radio link's dropouts, rows rejected as non-finite): the rate is
-//!   interpolated linearly across it (`PERIOD_ADAPT_S`), where holding the
+//! * **Lost samples.** A step longer than 1.5 sample periods bridges a gap
+//!   (a radio link's dropouts, rows rejected as non-finite): the rate is
+//!   interpolated linearly across it (`GAP_PERIODS`), where holding the
 //!   next sample's rate over it missed the turn in between.
 //!
 //! Everything is continuous-time: the defaults mean the same thing at 50 Hz
@@ -370,9 +370,12 @@ pub struct Dynamic {
     bias: Vec3,
     /// The corrected rate of the previous step (the coning term).
     w_prev: Vec3,
-    /// The sample period, s: the shortest step lately ([`PERIOD_ADAPT_S`]);
-    /// a longer step is a gap of missing samples (0 before the first step).
+    /// The sample period, s: the running mean of the regular steps
+    /// ([`PERIOD_ADAPT_S`]); a step longer than [`GAP_PERIODS`] of it
+    /// bridges lost samples (0 before the first step).
     dt_nominal: f64,
+    /// The time since the last regular step (not a gap), s.
+    gap_time: f64,
     /// The rest pull at unaccelerated turns ([`Dynamic::set_turn_pull`]).
     turn_pull: bool,
     /// Gyro scale errors learnt through the loop in this motion
@@ -818,18 +821,26 @@ fn rotation_step(w_prev: &Vec3, w: &Vec3, dt: f64) -> Quaternion<f64> {
     Quaternion::new(c, s * wi.x, s * wi.y, s * wi.z)
 }
 
-/// Time over which a longer sample period is taken for the period rather
-/// than for gaps, s ([`Dynamic`]'s strapdown step): the period is the
-/// shortest step seen, creeping up toward longer ones by dt/1 s a step, so a
-/// rate lowered mid-recording is followed within about a second, while a
-/// lost sample or a burst of them (a radio link's dropouts) is a gap.
+/// A step longer than this many sample periods bridges lost samples
+/// ([`Dynamic`]'s strapdown step): one lost sample makes a step of two
+/// periods, while time stamps that jitter by less than half a period (a
+/// host's receive times) are not taken for gaps, and each such step is
+/// integrated as before.
 ///
 /// Why: over a gap the rate is not known. Holding the next sample's rate
 /// over the whole gap (the rule of every regular step, where it stands in
-/// for the sensor's own half-sample delay) misses the rotation by about
+/// for the sensor's own half-sample delay) misses the turn by about
 /// Δω·gap/2: a hand turning at 1–3 rad/s, 40 Hz, bursts of five lost
 /// samples lost 0.04 rad a gap. Interpolating the rate linearly across the
-/// gap misses by ω̈·gap³/12 instead.
+/// gap misses by ω̈·gap³/12 instead. Taking every step beyond the shortest
+/// for a gap (a first version) cost jittered time stamps the sensor's
+/// delay compensation: hand @100 Hz, stamps ±45 % of a period, 0.241° →
+/// 0.271° (BENCHMARKS.md).
+const GAP_PERIODS: f64 = 1.5;
+
+/// Time over which the sample period is the running mean of the regular
+/// steps (not gaps), s; after this long with gaps alone (a rate lowered
+/// mid-recording) the period starts again from the step.
 const PERIOD_ADAPT_S: f64 = 1.0;
 
 /// The tilt error a move leaves for a rest to remove, rad ([`DynamicParams::rest_pull_rad_s`]),
@@ -1370,6 +1381,7 @@ impl Dynamic {
             bias: Vec3::zeros(),
             w_prev: Vec3::zeros(),
             dt_nominal: 0.0,
+            gap_time: 0.0,
             motion_scale: Vec3::zeros(),
             turn_pull: true,
             vel: [0.0; 2],
@@ -2022,25 +2034,34 @@ impl AttitudeFilter for Dynamic {
         self.rate_lp += (wn - self.rate_lp) * k_lp;
 
         // --- strapdown: rotation-vector step with the two-sample coning term.
-        // Over a gap (samples lost: the step longer than the sample period h)
-        // the rate is interpolated linearly from the last sample's to this
-        // one's, and this one's holds for its own h as on every step
+        // A step longer than GAP_PERIODS sample periods h bridges lost
+        // samples: over the gap beyond h the rate is interpolated linearly
+        // from the last sample's to this one's, and this one's holds for its
+        // own h as on every step
         let h = if self.dt_nominal > 0.0 {
-            self.dt_nominal.min(dt)
+            self.dt_nominal
         } else {
             dt
         };
-        let mut dq = rotation_step(&self.w_prev, &w, h);
-        let gap = dt - h;
+        let gap = if dt > GAP_PERIODS * h { dt - h } else { 0.0 };
+        let mut dq = rotation_step(&self.w_prev, &w, dt - gap);
         if gap > 0.0 {
             let mid = (self.w_prev + w) * 0.5;
             dq = rotation_step(&self.w_prev, &mid, gap) * dq;
         }
         self.w_prev = w;
-        if self.dt_nominal <= 0.0 || dt < self.dt_nominal {
-            self.dt_nominal = dt;
+        // the period: the running mean of the regular steps over
+        // PERIOD_ADAPT_S; after PERIOD_ADAPT_S of gaps alone, a new rate
+        if gap == 0.0 || self.gap_time + dt > PERIOD_ADAPT_S {
+            let k = if self.dt_nominal > 0.0 && gap == 0.0 {
+                (dt / PERIOD_ADAPT_S).min(1.0)
+            } else {
+                1.0
+            };
+            self.dt_nominal += (dt - self.dt_nominal) * k;
+            self.gap_time = 0.0;
         } else {
-            self.dt_nominal += (dt - self.dt_nominal) * (dt / PERIOD_ADAPT_S).min(1.0);
+            self.gap_time += dt;
         }
         let q = self.q.quaternion() * dq;
         if self.gsl.active && !self.rest {
@@ -3773,6 +3794,23 @@ mod tests {
         // and 0.22° RMS)
         assert!(bursts < 0.2, "{bursts}");
         assert!(single < 0.03, "{single}");
+        // time stamps that jitter (a host's receive times: each off by up to
+        // ±20 % of a period, steps of 0.6–1.4 periods) are not gaps: no step
+        // of them is split, and the period is their mean
+        let mut f = Dynamic::default();
+        let acc = Vector3::new(0.0, 0.0, G0);
+        let mut last = 0.0;
+        for k in 0..400 {
+            let stamp = k as f64 / 40.0 + 0.2 / 40.0 * ((k as f64 * 0.618_034).fract() * 2.0 - 1.0);
+            f.update(
+                Vector3::new(1.0, 0.0, 0.0),
+                acc,
+                if k == 0 { 0.025 } else { stamp - last },
+            );
+            last = stamp;
+            assert_eq!(f.gap_time, 0.0, "step {k}");
+        }
+        assert!((f.dt_nominal - 0.025).abs() < 0.00125, "{}", f.dt_nominal);
     }
 
     #[test]
