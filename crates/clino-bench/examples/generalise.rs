@@ -507,12 +507,13 @@ fn received(n: usize, p: f64, burst: usize, seed: u64) -> Vec<bool> {
 /// 40 Hz, `dynamic` given the samples received (each step as long as the
 /// time since the last one, as the pipeline gives it), VQF (a fixed sample
 /// period) the recording with each lost sample replaced by the next one
-/// received; both scored on the samples received.
+/// received; both scored on the samples received, and `dynamic` offline
+/// ([`clino::smooth`]) on the samples received.
 fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
     println!("\nlost samples, hand @40 Hz calibrated: inclination RMSE on the samples received");
     println!(
-        "{:<24}{:>10}{:>10}{:>8}",
-        "samples lost", "vqf °", "dynamic", "ratio"
+        "{:<24}{:>10}{:>10}{:>8}{:>10}",
+        "samples lost", "vqf °", "dynamic", "ratio", "offline"
     );
     let c = Condition {
         name: String::new(),
@@ -526,7 +527,7 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
         ("5 %, bursts of 5", 0.05, 5),
         ("20 %, one at a time", 0.2, 1),
     ] {
-        let (mut v, mut d) = (0.0, 0.0);
+        let (mut v, mut d, mut o) = (0.0, 0.0, 0.0);
         for seed in 1..=seeds {
             let rec = make(&c, seed);
             let n = rec.samples.len();
@@ -540,6 +541,7 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
                 lever: None,
             };
             d += rmse(&sub, &run_clino(&sub, dynamic));
+            o += rmse(&sub, &run_offline(&sub, dynamic));
             let mut filled = rec.samples.clone();
             for k in (0..n.saturating_sub(1)).rev() {
                 if !keep[k] {
@@ -559,7 +561,13 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
             v += rmse(&full, &run_vqf(&full));
         }
         let k = seeds as f64;
-        println!("{name:<24}{:>10.3}{:>10.3}{:>8.2}", v / k, d / k, d / v);
+        println!(
+            "{name:<24}{:>10.3}{:>10.3}{:>8.2}{:>10.3}",
+            v / k,
+            d / k,
+            d / v,
+            o / k
+        );
     }
 }
 

@@ -36,6 +36,10 @@
 //!    weight is 1 − d/2, d the learner's doubt in the gyro's propagation
 //!    ([`clino_core::filter::Dynamic::gyro_doubt`], [`BoundedMotion::gyro_weight`]).
 //!
+//! Gaps of lost samples (steps beyond 1.5 typical steps) are filled before
+//! the passes, rate and specific force interpolated linearly across them,
+//! and only the attitudes of the samples given are returned.
+//!
 //! Lever-arm compensation, when asked for, is done once before the passes,
 //! with a centred (zero-lag) derivative of the rate ([`compensate_centred`]).
 //!
@@ -377,9 +381,86 @@ fn rate_correction(f: &Pipeline, gyr: &Vec3, sign: f64) -> Vec3 {
     }
 }
 
+/// A step longer than this many sample periods (the median step) bridges
+/// lost samples; as [`clino_core::filter::Dynamic`]'s strapdown step takes
+/// it (one lost sample makes two periods; jittered time stamps are not gaps).
+const GAP_PERIODS: f64 = 1.5;
+
+/// The median of up to 4097 of the positive steps, evenly spread over the
+/// recording (a fixed amount of memory however long it is); `None` without one.
+fn typical_step(dt: &[f64]) -> Option<f64> {
+    let stride = (dt.len() / 4096).max(1);
+    let mut d: Vec<f64> = dt
+        .iter()
+        .step_by(stride)
+        .copied()
+        .filter(|h| h.is_finite() && *h > 0.0)
+        .collect();
+    d.sort_by(|a, b| a.total_cmp(b));
+    d.get(d.len() / 2).copied()
+}
+
 /// The five passes, the combination and the refinement, on a recording
-/// already compensated for the lever arm.
+/// already compensated for the lever arm. Gaps of lost samples (steps
+/// longer than [`GAP_PERIODS`] typical steps, between two usable samples)
+/// are first filled at the typical step with rate and specific force
+/// interpolated linearly between the samples around them, and the passes
+/// run on the filled recording; the attitudes of the samples given are
+/// returned. The real-time filter interpolates the rate across a gap in
+/// its forward step; the backward passes, which see each interval from its
+/// other end, and the refinement's gyro model cannot, so the recording they
+/// see has none (hand @40 Hz, 5 % of samples lost in bursts of five: 1.24°
+/// against 0.16° without loss; BENCHMARKS.md). Memory: only with gaps, a
+/// filled copy of the inputs.
 fn smooth_compensated(
+    gyr: &[Vec3],
+    acc: &[Vec3],
+    dt: &[f64],
+    opts: &SmoothOptions,
+    progress: Option<Progress<'_>>,
+) -> Vec<Attitude> {
+    let n = gyr.len().min(acc.len()).min(dt.len());
+    let (gyr, acc, dt) = (&gyr[..n], &acc[..n], &dt[..n]);
+    let good =
+        |k: usize| gyr[k].iter().all(|v| v.is_finite()) && acc[k].iter().all(|v| v.is_finite());
+    let fills = |h: f64, k: usize| -> usize {
+        if k == 0 || dt[k].is_nan() || dt[k] <= GAP_PERIODS * h || !good(k) || !good(k - 1) {
+            return 0;
+        }
+        let m = (dt[k] / h).round() - 1.0;
+        if m.is_finite() && m >= 1.0 {
+            (m as usize).min(1 << 20)
+        } else {
+            0
+        }
+    };
+    let Some(h) = typical_step(dt) else {
+        return smooth_regular(gyr, acc, dt, opts, progress);
+    };
+    if (0..n).all(|k| fills(h, k) == 0) {
+        return smooth_regular(gyr, acc, dt, opts, progress);
+    }
+    let (mut g2, mut a2, mut d2, mut at) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for k in 0..n {
+        let m = fills(h, k);
+        let step = dt[k] / (m + 1) as f64;
+        for j in 1..=m {
+            let x = j as f64 / (m + 1) as f64;
+            g2.push(gyr[k - 1] + (gyr[k] - gyr[k - 1]) * x);
+            a2.push(acc[k - 1] + (acc[k] - acc[k - 1]) * x);
+            d2.push(step);
+        }
+        at.push(g2.len());
+        g2.push(gyr[k]);
+        a2.push(acc[k]);
+        d2.push(if m > 0 { step } else { dt[k] });
+    }
+    let q = smooth_regular(&g2, &a2, &d2, opts, progress);
+    at.iter().map(|&i| q[i]).collect()
+}
+
+/// [`smooth_compensated`] on a recording without gaps to fill.
+fn smooth_regular(
     gyr: &[Vec3],
     acc: &[Vec3],
     dt: &[f64],
@@ -808,6 +889,46 @@ mod tests {
     fn tilt_err(a: &Attitude, b: &Attitude) -> f64 {
         let e = a * b.inverse();
         2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()
+    }
+
+    #[test]
+    fn lost_samples_are_filled_before_the_passes() {
+        // the hand at 40 Hz with five samples lost every two seconds (6 %):
+        // the offline tilt on the samples received, against the offline
+        // tilt of the whole recording on the same samples
+        use crate::sim::hand::{HandMotion, HandParams};
+        let hand = HandMotion::new(HandParams::by_hand(), 1);
+        let model = crate::sim::slewing::sensor().with_bandwidth(16.0);
+        let s = model.simulate(&hand, 40.0, 60.0, 1);
+        let lost = |k: usize| k > 200 && k % 80 >= 40 && k % 80 < 45;
+        let score = |keep: &dyn Fn(usize) -> bool| {
+            let idx: Vec<usize> = (0..s.len()).filter(|&k| keep(k)).collect();
+            let gyr: Vec<Vec3> = idx.iter().map(|&k| s[k].gyr_rad_s).collect();
+            let acc: Vec<Vec3> = idx.iter().map(|&k| s[k].acc_m_s2).collect();
+            let dt: Vec<f64> = (0..idx.len())
+                .map(|j| {
+                    if j == 0 {
+                        0.025
+                    } else {
+                        s[idx[j]].t_s - s[idx[j - 1]].t_s
+                    }
+                })
+                .collect();
+            let q = smooth(&gyr, &acc, &dt, &SmoothOptions::default());
+            let (mut s2, mut n) = (0.0, 0.0);
+            for (j, &k) in idx.iter().enumerate() {
+                if !lost(k) && k > 200 {
+                    let e = tilt_err(&q[j], &hand.truth(s[k].t_s).attitude);
+                    s2 += e * e;
+                    n += 1.0;
+                }
+            }
+            (s2 / n).sqrt().to_degrees()
+        };
+        let full = score(&|_| true);
+        let received = score(&|k| !lost(k));
+        // 0.18° against 0.13°; the passes on the gaps as they are: 0.94°
+        assert!(received < 2.0 * full, "{received}° against {full}°");
     }
 
     /// Simulated slewing machine with a constant gyro bias and no lever-arm knowledge
