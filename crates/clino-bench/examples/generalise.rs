@@ -41,6 +41,8 @@
 //! (a radio link's dropouts): `dynamic` given the samples received, VQF,
 //! whose sample period is fixed, each lost sample replaced by the next one.
 //!
+//! And both on sensors switched on already moving (no initial rest).
+//!
 //! `--export DIR` also writes every simulated recording but the slewing
 //! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
@@ -571,6 +573,54 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
     }
 }
 
+/// Sensors switched on already moving (no initial rest): the calibrated
+/// hand at 40 Hz and the slow arm at 100 Hz, scored from the first sample
+/// (the first 20 s, and the whole 120 s).
+fn started_in_motion(seeds: u64, dynamic: &FilterSpec) {
+    println!("\nswitched on in motion (no initial rest): inclination RMSE from the first sample");
+    println!(
+        "{:<24}{:>10}{:>10}{:>8}{:>12}{:>10}{:>8}",
+        "motion", "vqf 20 s", "dynamic", "ratio", "vqf 120 s", "dynamic", "ratio"
+    );
+    for (name, slow, rate) in [
+        ("hand @40 Hz", false, 40.0),
+        ("slow arm @100 Hz", true, 100.0),
+    ] {
+        let mut r = [0.0; 4];
+        for seed in 1..=seeds {
+            let p = HandParams {
+                initial_rest_s: 0.0,
+                ..if slow {
+                    HandParams::slow()
+                } else {
+                    HandParams::by_hand()
+                }
+            };
+            let hand = HandMotion::new(p, seed);
+            let model = Sensor::Calibrated.model(rate);
+            let mut rec = simulate(&hand, &model, rate, 120.0, seed, 0.0, None);
+            let (v, d) = (run_vqf(&rec), run_clino(&rec, dynamic));
+            r[2] += rmse(&rec, &v);
+            r[3] += rmse(&rec, &d);
+            for (k, s) in rec.samples.iter().enumerate() {
+                rec.scored[k] = s.t_s < 20.0;
+            }
+            r[0] += rmse(&rec, &v);
+            r[1] += rmse(&rec, &d);
+        }
+        let k = seeds as f64;
+        println!(
+            "{name:<24}{:>10.3}{:>10.3}{:>8.2}{:>12.3}{:>10.3}{:>8.2}",
+            r[0] / k,
+            r[1] / k,
+            r[1] / r[0],
+            r[2] / k,
+            r[3] / k,
+            r[3] / r[2]
+        );
+    }
+}
+
 fn load_broad(path: &PathBuf) -> clino::Result<Rec> {
     let mut r = ImuCsvReader::from_path(path, &ReadOptions::default())?;
     let mut rec = Rec {
@@ -992,6 +1042,9 @@ fn main() -> clino::Result<()> {
     }
     if only.as_deref().is_none_or(|o| "lost".contains(o)) {
         lost_samples(seeds, &dynamic);
+    }
+    if only.as_deref().is_none_or(|o| "started".contains(o)) {
+        started_in_motion(seeds, &dynamic);
     }
     if all_ratio.iter().any(|r| !r.is_empty()) {
         print!("{:<40}", "largest mean ratio over the conditions");
