@@ -227,9 +227,11 @@ pub struct DynamicParams {
     /// Largest gyro bias the filter will believe, rad/s (per axis). Default 20°/s.
     pub bias_max_rad_s: f64,
     /// Bandwidth at start-up, rad/s. Default 1 rad/s. The start-up pull to
-    /// the accelerometer acts only while the low-passed rate is under
+    /// the accelerometer acts only while the rate and its low-pass are under
     /// `rest_gyr_initial_rad_s`: it is for a sensor switched on at rest, and
-    /// on one switched on in motion it followed the motion's accelerations.
+    /// on one switched on in motion it followed the motion's accelerations
+    /// (the hand at 40 Hz: 1.36° over its first 20 s with the low-pass alone,
+    /// VQF 1.17°, now 0.93°).
     pub start_bandwidth_rad_s: f64,
     /// Time over which the start-up bandwidth falls to p, s. Default 3 s.
     /// Until the first rest has ended the loop runs at no less than
@@ -2158,8 +2160,9 @@ impl AttitudeFilter for Dynamic {
             // ground) at the full rate until `alignment_s` of rest have been seen.
             // (Divided by g, not |f|: linear in f, so vibration cannot rectify.)
             let mut pull = 0.0;
-            // (only while slow: a sensor switched on in motion reads the motion)
-            if self.time < p.start_time_s && self.rate_lp < p.rest_gyr_initial_rad_s {
+            // (only while slow, by the rate itself and its low-pass: a sensor
+            // switched on in motion reads the motion)
+            if self.time < p.start_time_s && wn.max(self.rate_lp) < p.rest_gyr_initial_rad_s {
                 pull = p.start_bandwidth_rad_s * (1.0 - self.time * self.inv.start_time);
                 if self.from_accel {
                     // never weaker than the running mean of the accelerometer's tilt
