@@ -386,8 +386,9 @@ pub struct Dynamic {
     /// ([`PERIOD_ADAPT_S`]); a step longer than [`GAP_PERIODS`] of it
     /// bridges lost samples (0 before the first step).
     dt_nominal: f64,
-    /// The time since the last regular step (not a gap), s.
+    /// The time and the steps since the last regular step (not a gap), s.
     gap_time: f64,
+    gap_steps: u32,
     /// The rest pull at unaccelerated turns ([`Dynamic::set_turn_pull`]).
     turn_pull: bool,
     /// Gyro scale errors learnt through the loop in this motion
@@ -851,8 +852,9 @@ fn rotation_step(w_prev: &Vec3, w: &Vec3, dt: f64) -> Quaternion<f64> {
 const GAP_PERIODS: f64 = 1.5;
 
 /// Time over which the sample period is the running mean of the regular
-/// steps (not gaps), s; after this long with gaps alone (a rate lowered
-/// mid-recording) the period starts again from the step.
+/// steps (not gaps), s; after this long with gaps alone, and at least three
+/// of them (a rate lowered mid-recording, not one long dropout), the period
+/// starts again from the step.
 const PERIOD_ADAPT_S: f64 = 1.0;
 
 /// The tilt error a move leaves for a rest to remove, rad ([`DynamicParams::rest_pull_rad_s`]),
@@ -1394,6 +1396,7 @@ impl Dynamic {
             w_prev: Vec3::zeros(),
             dt_nominal: 0.0,
             gap_time: 0.0,
+            gap_steps: 0,
             motion_scale: Vec3::zeros(),
             turn_pull: true,
             vel: [0.0; 2],
@@ -2067,17 +2070,24 @@ impl AttitudeFilter for Dynamic {
         }
         self.w_prev = w;
         // the period: the running mean of the regular steps over
-        // PERIOD_ADAPT_S; after PERIOD_ADAPT_S of gaps alone, a new rate
-        if gap == 0.0 || self.gap_time + dt > PERIOD_ADAPT_S {
-            let k = if self.dt_nominal > 0.0 && gap == 0.0 {
+        // PERIOD_ADAPT_S; after PERIOD_ADAPT_S of gaps alone, three or more
+        // (one long dropout is not a new rate), the step is the new period
+        if gap == 0.0 {
+            let k = if self.dt_nominal > 0.0 {
                 (dt / PERIOD_ADAPT_S).min(1.0)
             } else {
                 1.0
             };
             self.dt_nominal += (dt - self.dt_nominal) * k;
             self.gap_time = 0.0;
+            self.gap_steps = 0;
+        } else if self.gap_steps >= 2 && self.gap_time + dt > PERIOD_ADAPT_S {
+            self.dt_nominal = dt;
+            self.gap_time = 0.0;
+            self.gap_steps = 0;
         } else {
             self.gap_time += dt;
+            self.gap_steps = self.gap_steps.saturating_add(1);
         }
         let q = self.q.quaternion() * dq;
         if self.gsl.active && !self.rest {
@@ -3831,6 +3841,15 @@ mod tests {
             assert_eq!(f.gap_time, 0.0, "step {k}");
         }
         assert!((f.dt_nominal - 0.025).abs() < 0.00125, "{}", f.dt_nominal);
+        // one dropout of 2 s is a gap, not a new period; a rate halved for
+        // good becomes the period after a second of it
+        f.update(Vector3::new(1.0, 0.0, 0.0), acc, 2.0);
+        let before = f.dt_nominal;
+        assert!((before - 0.025).abs() < 0.00125, "{before}");
+        for _ in 0..60 {
+            f.update(Vector3::new(1.0, 0.0, 0.0), acc, 0.05);
+        }
+        assert!((f.dt_nominal - 0.05).abs() < 0.005, "{}", f.dt_nominal);
     }
 
     #[test]
