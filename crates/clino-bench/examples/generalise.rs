@@ -17,8 +17,10 @@
 //!
 //! The motions: a segment moved by hand (with 1-s rests, with poses held in
 //! the hand, with the sensor 0.25 m from the joint), a slow robot arm with and
-//! without a 30-Hz vibrating base, a drum turning one way about its
-//! horizontal axis in runs and stops, and the slewing excavator.
+//! without a vibrating base (an engine's 8.75–30 Hz, and a structure swaying
+//! at 1.5–5 Hz, below the rest detector's vibration low-pass), a drum turning
+//! one way about its horizontal axis in runs and stops, and the slewing
+//! excavator.
 //!
 //! Simulated recordings are scored from the end of their initial rest on
 //! (motion and the rests between moves); BROAD on its `movement` samples.
@@ -304,6 +306,11 @@ enum Kind {
     Slow,
     /// The slow motion with vibration (linear 1.5 m/s², angular 2°/s).
     SlowVib,
+    /// The slow motion on a structure swaying at its first mode, 1.5–5 Hz
+    /// by seed (a boom, a mast), with the same 1.5 m/s² and 2°/s: below
+    /// the vibration low-pass's reach, where the engines of `SlowVib` are
+    /// above it.
+    SlowBoom,
     /// The hand motion with 1-s rests.
     ShortRests,
     /// The hand motion with its rests held in the hand, not set down
@@ -330,6 +337,7 @@ impl Kind {
             Kind::Hand => "hand",
             Kind::Slow => "slow",
             Kind::SlowVib => "slow+vib",
+            Kind::SlowBoom => "slow+boom",
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
             Kind::Arm => "hand,arm0.25m",
@@ -399,9 +407,14 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 &hand,
             )
         }
-        Kind::Hand | Kind::Slow | Kind::SlowVib | Kind::ShortRests | Kind::Held => {
+        Kind::Hand
+        | Kind::Slow
+        | Kind::SlowVib
+        | Kind::SlowBoom
+        | Kind::ShortRests
+        | Kind::Held => {
             let mut p = match c.kind {
-                Kind::Slow | Kind::SlowVib => HandParams::slow(),
+                Kind::Slow | Kind::SlowVib | Kind::SlowBoom => HandParams::slow(),
                 Kind::Held => HandParams::held(),
                 _ => HandParams::by_hand(),
             };
@@ -419,8 +432,13 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 let rec = simulate(&m, &model, c.rate, seconds, seed, from, None);
                 return with_rests(rec, &hand);
             }
-            if let Kind::SlowVib = c.kind {
-                let f = (0.35 * c.rate).min(30.0);
+            if let Kind::SlowVib | Kind::SlowBoom = c.kind {
+                let f = if let Kind::SlowBoom = c.kind {
+                    // 1.5–5 Hz, spread over the seeds (golden-ratio steps)
+                    1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract()
+                } else {
+                    (0.35 * c.rate).min(30.0)
+                };
                 let m = Sum {
                     a: hand,
                     b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
@@ -892,6 +910,8 @@ fn main() -> clino::Result<()> {
         (Kind::SlowVib, Sensor::ScaleMixed, 125.0),
         (Kind::Slow, Sensor::ScaleLow, 125.0),
         (Kind::SlowVib, Sensor::ScaleLow, 125.0),
+        (Kind::SlowBoom, Sensor::Calibrated, 125.0),
+        (Kind::SlowBoom, Sensor::ScaleLow, 125.0),
         (Kind::Drum, Sensor::Calibrated, 100.0),
         (Kind::Drum, Sensor::GyroScale, 100.0),
         (Kind::Drum, Sensor::GyroScale, 25.0),
