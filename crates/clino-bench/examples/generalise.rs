@@ -329,6 +329,9 @@ enum Kind {
     Drum,
     /// The slewing excavator with the lever arm given.
     Slewing,
+    /// The slewing excavator whose boom sways at 1.5–4.5 Hz by seed (1 m/s²,
+    /// 1°/s) instead of its engine's 30 Hz.
+    SlewingSway,
 }
 
 impl Kind {
@@ -343,6 +346,7 @@ impl Kind {
             Kind::Arm => "hand,arm0.25m",
             Kind::Drum => "drum",
             Kind::Slewing => "slewing+lever",
+            Kind::SlewingSway => "slewing+sway+lever",
         }
     }
 }
@@ -358,12 +362,17 @@ fn make(c: &Condition, seed: u64) -> Rec {
     let model = c.sensor.model(c.rate);
     let seconds = 120.0;
     match c.kind {
-        Kind::Slewing => {
-            let m = SlewingPlatform {
+        Kind::Slewing | Kind::SlewingSway => {
+            let mut m = SlewingPlatform {
                 chassis_heading: 0.7 + seed as f64,
                 vibration_hz: (0.35 * c.rate).min(30.0),
                 ..Default::default()
             };
+            if let Kind::SlewingSway = c.kind {
+                m.vibration_hz = 1.5 + 3.0 * (seed as f64 * 0.618_033_988_75).fract();
+                m.vibration_m_s2 = 1.0;
+                m.vibration_rate_rad_s = 1f64.to_radians();
+            }
             simulate(
                 &m,
                 &model,
@@ -461,8 +470,20 @@ fn make(c: &Condition, seed: u64) -> Rec {
 /// lever arm given (without and with the bias estimator) and with
 /// `--lever-arm auto`, and the final estimates against the truth.
 fn slewing_estimates(seeds: u64, dynamic: &FilterSpec) {
+    for kind in [Kind::Slewing, Kind::SlewingSway] {
+        slewing_table(seeds, dynamic, kind);
+    }
+}
+
+/// [`slewing_estimates`] on one slewing machine.
+fn slewing_table(seeds: u64, dynamic: &FilterSpec, kind: Kind) {
     println!(
-        "\nslewing machine, accelerometer bias (7, -10, 5) mg, 200 Hz, 120 s: inclination RMSE, final estimates"
+        "\nslewing machine{}, accelerometer bias (7, -10, 5) mg, 200 Hz, 120 s: inclination RMSE, final estimates",
+        if let Kind::SlewingSway = kind {
+            " with its boom swaying at 1.5-4.5 Hz (1 m/s², 1°/s)"
+        } else {
+            ""
+        }
     );
     println!(
         "{:<6}{:>10}{:>11}{:>10}{:>12}{:>14}{:>14}",
@@ -470,7 +491,7 @@ fn slewing_estimates(seeds: u64, dynamic: &FilterSpec) {
     );
     let c = Condition {
         name: String::new(),
-        kind: Kind::Slewing,
+        kind,
         sensor: Sensor::Bias,
         rate: 200.0,
     };

@@ -353,7 +353,10 @@ pub struct MountOptions {
     pub gyro_scale_error: f64,
     /// Length of the blocks over which the model is averaged before each
     /// update, s. Default 0.5 s: the mount's own acceleration averages to
-    /// Δv/T over a block, and engine vibration to nothing.
+    /// Δv/T over a block, and engine vibration to nothing. While the filter
+    /// measures a sway of its base (a boom at 1–8 Hz,
+    /// [`crate::filter::Dynamic::sway_hz`]), a block is the whole number of
+    /// its periods nearest to this ([`MountEstimator::set_sway_hz`]).
     pub block_s: f64,
     /// Smallest 1σ of a block's unexplained specific force, m/s². Default
     /// 0.005 m/s² (accelerometer noise averaged over a block is ≈ 10× less).
@@ -439,6 +442,9 @@ pub struct MountEstimator {
     sw: f64,
     noise_var: f64,
     blocks: u64,
+    /// The frequency of a sway the mount is known to have, Hz
+    /// ([`MountEstimator::set_sway_hz`]; 0: none).
+    sway_hz: f64,
 }
 
 impl MountEstimator {
@@ -466,6 +472,7 @@ impl MountEstimator {
             srh: nalgebra::Matrix3::zeros(),
             st: 0.0,
             sw: 0.0,
+            sway_hz: 0.0,
             // start pessimistic (a hand): the innovations bring it down
             noise_var: (100.0 * floor * floor).max(0.05 * 0.05),
             blocks: 0,
@@ -590,8 +597,29 @@ impl MountEstimator {
         self.srh += r * h * dt;
         self.st += dt;
         self.sw += w.norm() * dt;
-        if self.st >= self.opts.block_s {
+        if self.st >= self.block_len() {
             self.update_block();
+        }
+    }
+
+    /// A sway of the mount at `hz` (a boom at its first mode, measured by
+    /// [`crate::filter::Dynamic::sway_hz`]), or none. A block mean keeps up
+    /// to a/(π·f·T) of a sway of amplitude a at f over a block of T — at
+    /// 3 Hz, 1.5 m/s² over 0.5 s, 0.3 m/s², larger than the bias it is to
+    /// find — and none over whole periods: blocks are then the whole number
+    /// of its periods nearest to `block_s` (at least one).
+    pub fn set_sway_hz(&mut self, hz: Option<f64>) {
+        self.sway_hz = hz.filter(|f| f.is_finite() && *f > 0.0).unwrap_or(0.0);
+    }
+
+    /// The length of the current block, s.
+    fn block_len(&self) -> f64 {
+        let t = self.opts.block_s;
+        if self.sway_hz > 0.0 {
+            let n = libm::round(t * self.sway_hz).max(1.0);
+            n / self.sway_hz
+        } else {
+            t
         }
     }
 
@@ -652,6 +680,35 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
     use nalgebra::Vector3;
+
+    #[test]
+    fn a_sway_makes_blocks_of_whole_periods() {
+        // a block mean of a sine over whole periods is zero; the blocks are
+        // the whole number of sway periods nearest to `block_s`, at least one
+        let mut e = MountEstimator::new(MountOptions::default());
+        assert_relative_eq!(e.block_len(), 0.5);
+        for (hz, len) in [
+            (3.0, 2.0 / 3.0),
+            (1.5, 1.0 / 1.5),
+            (4.5, 2.0 / 4.5),
+            (0.5, 2.0),
+        ] {
+            e.set_sway_hz(Some(hz));
+            assert_relative_eq!(e.block_len(), len, epsilon = 1e-12);
+            // and a sine at that frequency averages to zero over it
+            let n = 10_000;
+            let dt = len / n as f64;
+            let mean: f64 = (0..n)
+                .map(|k| (core::f64::consts::TAU * hz * (k as f64 + 0.5) * dt + 0.7).sin())
+                .sum::<f64>()
+                / n as f64;
+            assert!(mean.abs() < 1e-6, "{hz} Hz: {mean}");
+        }
+        for bad in [None, Some(0.0), Some(f64::NAN), Some(-2.0)] {
+            e.set_sway_hz(bad);
+            assert_relative_eq!(e.block_len(), 0.5);
+        }
+    }
 
     #[test]
     fn planar_equals_general_form() {
