@@ -39,6 +39,11 @@
 //! BROAD trial 21's error began; there the optical reference's own
 //! misalignment and latency are as large as the differences between filters.
 //!
+//! Then the slewing machine with an uncalibrated accelerometer (its engine
+//! vibrating at 30 Hz, then its boom swaying at 1.5–4.5 Hz): the tilt with
+//! the lever arm given, without and with the bias estimator, and with
+//! `--lever-arm auto`, and the estimates against the truth.
+//!
 //! Last, `dynamic` and VQF on the hand at 40 Hz with samples lost on the way
 //! (a radio link's dropouts): `dynamic` given the samples received, VQF,
 //! whose sample period is fixed, each lost sample replaced by the next one.
@@ -468,7 +473,8 @@ fn make(c: &Condition, seed: u64) -> Rec {
 
 /// The slewing machine with an uncalibrated accelerometer: the tilt with the
 /// lever arm given (without and with the bias estimator) and with
-/// `--lever-arm auto`, and the final estimates against the truth.
+/// `--lever-arm auto`, and the final estimates against the truth; with its
+/// engine's 30-Hz vibration, then with its boom swaying at 1.5–4.5 Hz.
 fn slewing_estimates(seeds: u64, dynamic: &FilterSpec) {
     for kind in [Kind::Slewing, Kind::SlewingSway] {
         slewing_table(seeds, dynamic, kind);
