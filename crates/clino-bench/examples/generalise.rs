@@ -363,6 +363,12 @@ struct Condition {
     rate: f64,
 }
 
+/// A structure's sway frequency in [lo, hi) Hz for `seed`, spread over the
+/// seeds in golden-ratio steps.
+fn sway_hz(seed: u64, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * (seed as f64 * 0.618_033_988_75).fract()
+}
+
 fn make(c: &Condition, seed: u64) -> Rec {
     let model = c.sensor.model(c.rate);
     let seconds = 120.0;
@@ -374,7 +380,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 ..Default::default()
             };
             if let Kind::SlewingSway = c.kind {
-                m.vibration_hz = 1.5 + 3.0 * (seed as f64 * 0.618_033_988_75).fract();
+                m.vibration_hz = sway_hz(seed, 1.5, 4.5);
                 m.vibration_m_s2 = 1.0;
                 m.vibration_rate_rad_s = 1f64.to_radians();
             }
@@ -448,8 +454,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
             }
             if let Kind::SlowVib | Kind::SlowBoom = c.kind {
                 let f = if let Kind::SlowBoom = c.kind {
-                    // 1.5–5 Hz, spread over the seeds (golden-ratio steps)
-                    1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract()
+                    sway_hz(seed, 1.5, 5.0)
                 } else {
                     (0.35 * c.rate).min(30.0)
                 };

@@ -1331,15 +1331,19 @@ impl Sway {
         self.settle(gyr, acc);
     }
 
-    /// The notch's states for a steady input (its output equal to it).
+    /// The notch's states for a steady input `x`, its output then equal to
+    /// it: with y = x, s₂ = x·(b₂ − a₂) and s₁ = x·(b₁ − a₁) + s₂ (then
+    /// y = b₀·x + s₁ = x, as b₀ + b₁ + b₂ = 1 + a₁ + a₂: unit gain at DC).
+    fn steady(&self, x: &Vec3) -> [Vec3; 2] {
+        let [_, b1, b2, a1, a2] = self.c;
+        let s2 = x * (b2 - a2);
+        [x * (b1 - a1) + s2, s2]
+    }
+
+    /// The notch's states as for a steady input `gyr`, `acc`.
     fn settle(&mut self, gyr: &Vec3, acc: &Vec3) {
-        let [b0, b1, b2, a1, a2] = self.c;
-        // y = x: s1 = x·(b1 − a1) + s2, s2 = x·(b2 − a2); y = b0·x + s1
-        let _ = b0;
-        for (st, x) in [(&mut self.g, gyr), (&mut self.a, acc)] {
-            st[1] = x * (b2 - a2);
-            st[0] = x * (b1 - a1) + st[1];
-        }
+        self.g = self.steady(gyr);
+        self.a = self.steady(acc);
     }
 
     /// The rate and specific force the rest detector is to see: notched
@@ -1413,12 +1417,17 @@ impl Sway {
         // mean squares of it and its two derivatives are 1 : ω² : ω⁴, so
         // p₀·p₂/p₁² = 1; noise (a differentiated rate's, in a lever-arm
         // compensation) spreads over the band and makes it several
+        // Its frequency: the RMS of its rate over its RMS, 2πf. Only a
+        // frequency the sample rate can hold gets a notch (below 0.4·f_s; a
+        // long step, lost samples, has none).
+        let f = sqrt(self.p1 / self.p0) / (core::f64::consts::TAU * dt);
+        let f_hi = SWAY_HZ.1.min(0.4 / dt);
         let swaying = self.p0 > share * share * thr_a * thr_a
-            && self.p0 * self.p2 < SWAY_NARROW * self.p1 * self.p1;
+            && self.p0 * self.p2 < SWAY_NARROW * self.p1 * self.p1
+            && f.is_finite()
+            && f_hi >= SWAY_HZ.0;
         if swaying {
-            // its frequency: the RMS of its rate over its RMS, 2πf
-            let f = sqrt(self.p1 / self.p0) / (core::f64::consts::TAU * dt);
-            let f = f.clamp(SWAY_HZ.0, SWAY_HZ.1.min(0.4 / dt));
+            let f = f.clamp(SWAY_HZ.0, f_hi);
             if self.f0 <= 0.0
                 || (f - self.f0).abs() > SWAY_RETUNE * self.f0
                 || (dt - self.dt).abs() > SWAY_RETUNE * dt
@@ -1445,9 +1454,9 @@ impl Sway {
         self.u += da;
         self.v1 += da;
         self.v2 += da;
-        let [_, b1, b2, a1, a2] = self.c;
-        self.a[1] += da * (b2 - a2);
-        self.a[0] += da * (b1 - a1 + b2 - a2);
+        let [s1, s2] = self.steady(da);
+        self.a[0] += s1;
+        self.a[1] += s2;
     }
 
     /// The notch at `f` Hz for sample period `dt` (bilinear, prewarped;
@@ -2131,12 +2140,12 @@ impl AttitudeFilter for Dynamic {
         // threshold is 0.5°/s, a 2°/s vibration passes at 0.14°/s, and what a
         // second stage would remove of a hand's 9-Hz tremor let held poses,
         // creeping on, pass for rest (BENCHMARKS.md).
-        let abs_thr_now = if self.rested_once {
+        let abs_thr = if self.rested_once {
             p.rest_gyr_rad_s
         } else {
             p.rest_gyr_initial_rad_s
         };
-        let calm = (self.gyr_lp - self.bias).norm_squared() < abs_thr_now * abs_thr_now;
+        let calm = (self.gyr_lp - self.bias).norm_squared() < abs_thr * abs_thr;
         let (gyr_n, acc_n) = self.sway.notch(&gyr, &acc);
         self.gyr_f += (gyr_n - self.gyr_f) * k_vib;
         self.acc_f1 += (acc_n - self.acc_f1) * k_vib2;
@@ -2159,11 +2168,6 @@ impl AttitudeFilter for Dynamic {
         let w =
             (gyr - self.bias).component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale));
         let w2 = w.norm_squared();
-        let abs_thr = if self.rested_once {
-            p.rest_gyr_rad_s
-        } else {
-            p.rest_gyr_initial_rad_s
-        };
         // every sample, on the vibration-filtered signals, against the means of
         // the stillness so far: motion ends rest within ≈ `vibration_tau_s`, and
         // the motion before the stillness is in neither side of the comparison.
@@ -3287,11 +3291,97 @@ mod tests {
                 }
             }
             let miss = (f.gyro_bias() - bias).norm().to_degrees();
-            std::println!("{hz} Hz: rest {rested}, bias off by {miss}°/s, tilt {worst}°");
+            let found = f.sway_hz().unwrap_or(f64::NAN);
+            std::println!(
+                "{hz} Hz: rest {rested}, bias off by {miss}°/s, tilt {worst}°, sway {found} Hz"
+            );
+            // the frequency the notch is set at: the sway's
+            assert!(
+                (found - hz).abs() < 0.05 * hz,
+                "{hz} Hz: measured {found} Hz"
+            );
             assert!(rested, "{hz} Hz: the swaying base is not taken for rest");
             assert!(miss < 0.01, "{hz} Hz: bias off by {miss}°/s");
             assert!(worst < 0.1, "{hz} Hz: {worst}° over 11–12 s");
         }
+    }
+
+    #[test]
+    fn the_sway_notch_has_the_closed_form_response() {
+        // The bilinear transform, prewarped at f₀, of H(s) = (s² + 1)/(s² + s/Q + 1):
+        // at f the digital notch has the analog gain at r = tan(πf·dt)/tan(πf₀·dt),
+        // |1 − r²|/√((1 − r²)² + (r/Q)²) — zero at f₀, one at DC.
+        for (f0, dt) in [(3.0, 0.008), (1.5, 0.04), (7.0, 0.001)] {
+            let mut sw = Sway::new();
+            sw.tune(f0, dt);
+            // DC: settled on a steady input, the output is that input
+            let x = Vector3::new(0.3, -9.7, 1.2);
+            sw.settle(&x, &x);
+            sw.running = true;
+            sw.on = true;
+            let (g, a) = sw.notch(&x, &x);
+            approx::assert_relative_eq!(g, x, epsilon = 1e-12);
+            approx::assert_relative_eq!(a, x, epsilon = 1e-12);
+            for ratio in [0.2, 0.7, 1.0, 1.5, 4.0] {
+                let f = f0 * ratio;
+                if f * dt >= 0.45 {
+                    continue;
+                }
+                let mut sw = Sway::new();
+                sw.tune(f0, dt);
+                sw.running = true;
+                sw.on = true;
+                let w = core::f64::consts::TAU * f;
+                // run 40 periods, take the amplitude over the last 10
+                let n = ((40.0 / f) / dt) as usize;
+                let tail = ((10.0 / f) / dt) as usize;
+                let mut peak: f64 = 0.0;
+                for k in 0..n {
+                    let u = Vector3::new((w * k as f64 * dt).sin(), 0.0, 0.0);
+                    let (y, _) = sw.notch(&u, &Vector3::zeros());
+                    if k >= n - tail {
+                        peak = peak.max(y.x.abs());
+                    }
+                }
+                let r = (core::f64::consts::PI * f * dt).tan()
+                    / (core::f64::consts::PI * f0 * dt).tan();
+                let want =
+                    (1.0 - r * r).abs() / ((1.0 - r * r).powi(2) + (r / SWAY_Q).powi(2)).sqrt();
+                assert!(
+                    (peak - want).abs() < 0.01,
+                    "f0 {f0}, f {f}: {peak} against {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_long_step_on_a_swaying_base_is_no_sway_at_that_step() {
+        // A swaying base (3 Hz) at 125 Hz, then one step of 1 s (samples lost):
+        // no notch fits that step (0.4/dt = 0.4 Hz, below the band). The band's
+        // clamp had its bounds crossed there, a panic; now the sway is off for
+        // that step and the filter runs on.
+        let dt = 0.008;
+        let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 10f64.to_radians());
+        let mut f = Dynamic::default();
+        let mut noise = Noise(5);
+        let w = core::f64::consts::TAU * 3.0;
+        let mut t = 0.0;
+        for k in 0..2000 {
+            let step = if k == 1000 { 1.0 } else { dt };
+            t += step;
+            let mut acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
+            acc += Vector3::new(1.5, 1.0, 1.2) * (w * t).sin();
+            f.update(noise.vec(0.0005), acc + noise.vec(0.02), step);
+            if k == 999 {
+                assert!(f.sway_hz().is_some(), "the sway is found before the step");
+            }
+            if k == 1000 {
+                assert_eq!(f.sway_hz(), None, "no notch over a 1-s step");
+            }
+        }
+        let e = tilt_err(&f.attitude(), &q).to_degrees();
+        assert!(e < 0.2, "{e}°");
     }
 
     /// The largest tilt error (degrees) in the 4.5 s of a slow translation

@@ -477,6 +477,27 @@ mod mount_tests {
         (model, b)
     }
 
+    /// The pipeline of `--lever-arm` with the arm of `m` given (the
+    /// accelerometer bias estimated online).
+    fn lever_given(m: &SlewingPlatform) -> CorePipeline {
+        let opts = MountOptions {
+            lever_arm_m: m.lever_arm_m,
+            ..Default::default()
+        };
+        CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts))
+    }
+
+    /// The machine with its boom swaying at `hz` (`acc` m/s², 1°/s) instead
+    /// of its engine's 30 Hz.
+    fn swaying(hz: f64, acc: f64) -> SlewingPlatform {
+        SlewingPlatform {
+            vibration_hz: hz,
+            vibration_m_s2: acc,
+            vibration_rate_rad_s: 1f64.to_radians(),
+            ..Default::default()
+        }
+    }
+
     #[test]
     fn slewing_makes_the_horizontal_accelerometer_bias_observable() {
         // 10 mg of bias is 0.5° of tilt whatever the filter (issue 13); the slew
@@ -529,24 +550,10 @@ mod mount_tests {
         // estimator's blocks span whole periods of it.
         // Measured on this seed: 0.61° before, 0.37° with the notch alone,
         // 0.12° with the blocks too (0.09° without the sway).
-        let m = SlewingPlatform {
-            vibration_hz: 3.0,
-            vibration_m_s2: 1.5,
-            vibration_rate_rad_s: 1f64.to_radians(),
-            ..Default::default()
-        };
+        let m = swaying(3.0, 1.5);
         let (model, b) = uncalibrated_bias();
         let s = model.simulate(&m, 200.0, 120.0, 1);
-        let opts = MountOptions {
-            lever_arm_m: m.lever_arm_m,
-            ..Default::default()
-        };
-        let (tilt, p) = run(
-            &m,
-            &s,
-            m.initial_rest_s,
-            CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts)),
-        );
+        let (tilt, p) = run(&m, &s, m.initial_rest_s, lever_given(&m));
         let db = p.mount_estimator().unwrap().accel_bias() - b;
         std::println!("{tilt}°, bias error {db:?}");
         assert!(tilt < 0.15, "{tilt}°");
@@ -565,25 +572,16 @@ mod mount_tests {
         let m = SlewingPlatform::default();
         let (model, _) = uncalibrated_bias();
         let s = model.simulate(&m, 200.0, 60.0, 1);
-        let opts = MountOptions {
-            lever_arm_m: m.lever_arm_m,
-            ..Default::default()
-        };
-        let mut p = CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts));
+        let mut p = lever_given(&m);
         for smp in &s {
             p.update(smp);
             let d = p.filter().as_dynamic().unwrap();
             assert_eq!(d.sway_hz(), None, "at {} s", smp.t_s);
         }
         // and a boom's sway is one
-        let m = SlewingPlatform {
-            vibration_hz: 2.2,
-            vibration_m_s2: 1.0,
-            vibration_rate_rad_s: 1f64.to_radians(),
-            ..Default::default()
-        };
+        let m = swaying(2.2, 1.0);
         let s = model.simulate(&m, 200.0, 10.0, 1);
-        let mut p = CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts));
+        let mut p = lever_given(&m);
         for smp in &s {
             p.update(smp);
         }
@@ -611,11 +609,7 @@ mod mount_tests {
         let m = SlewingPlatform::default();
         let (model, _) = uncalibrated_bias();
         let s = model.simulate(&m, 200.0, 120.0, 1);
-        let opts = MountOptions {
-            lever_arm_m: m.lever_arm_m,
-            ..Default::default()
-        };
-        let mut p = CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts));
+        let mut p = lever_given(&m);
         let (mut all, mut early) = (Rms::default(), Rms::default());
         for smp in &s {
             let q = p.update(smp).attitude.unwrap_or_else(Attitude::identity);
