@@ -458,7 +458,7 @@ impl Pipeline {
                         let (w, w_dot) =
                             rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
                         m.set_sway_hz(d.sway_hz());
-                        m.observe(&d.attitude(), &qc, &s.acc_m_s2, &w, &w_dot, dt);
+                        m.observe(&d.sampled_attitude(), &qc, &s.acc_m_s2, &w, &w_dot, dt);
                     }
                     // a filter put in through `filter_mut` without the
                     // tracking: its gyro-only reference starts here, as at

@@ -145,6 +145,9 @@ impl Default for BoundedMotion {
 fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Pipeline {
     let mut params = opts.params;
     params.learn_bias = learn;
+    // the passes work at the samples' instants (forwards and backwards
+    // alike); the sensor's delay is made up once, on the result
+    params.sensor_delay_periods = 0.0;
     let mut p = Pipeline::new(FilterSpec::Dynamic(params));
     if let Some((q, b)) = start
         && let Some(f) = p.filter_mut().as_dynamic_mut()
@@ -302,8 +305,7 @@ fn pass(
             d.set_gyro_bias(b[i] * sign);
         }
         let sample = if reverse {
-            let g = if i + 1 < n { gyr[i + 1] } else { gyr[i] };
-            ImuSample::new(-t[i], -g, acc[i])
+            ImuSample::new(-t[i], -gyr[i], acc[i])
         } else {
             ImuSample::new(t[i], gyr[i], acc[i])
         };
@@ -570,7 +572,33 @@ fn smooth_regular(
             progress,
         );
     }
+    carry_over_delay(&mut q, dt, opts.params.sensor_delay_periods);
     q
+}
+
+/// The sensor's delay made up on a whole record's attitudes, in place: each
+/// attitude, which stands for its sample's instant, carried on over
+/// `periods` typical steps to its time stamp, as the real-time filter
+/// reports it ([`DynamicParams::sensor_delay_periods`]). The rate is the
+/// attitudes' own centred difference (the corrected rate the passes
+/// integrated, and no memory beyond the attitudes); the first and the last
+/// sample take the one-sided one.
+fn carry_over_delay(q: &mut [Attitude], dt: &[f64], periods: f64) {
+    let n = q.len().min(dt.len());
+    let lead_s = periods * typical_step(&dt[..n]).unwrap_or(0.0);
+    if lead_s.is_nan() || lead_s <= 0.0 || n < 2 {
+        return;
+    }
+    let mut before = q[0];
+    for i in 0..n {
+        let after = if i + 1 < n { q[i + 1] } else { q[i] };
+        let span = if i > 0 { dt[i] } else { 0.0 } + if i + 1 < n { dt[i + 1] } else { 0.0 };
+        let turn = (before.inverse() * after).scaled_axis() * (lead_s / span);
+        before = q[i];
+        if span > 0.0 && turn.iter().all(|v| v.is_finite()) {
+            q[i] *= UnitQuaternion::from_scaled_axis(turn);
+        }
+    }
 }
 
 /// The tilt corrections an attitude sequence `q` made beyond the gyro, per
@@ -609,7 +637,7 @@ fn beyond_gyro(
             continue;
         }
         if let (Some(wp), true) = (w_prev, k > 0) {
-            let phi = (w + wp.cross(&w) * (dt[k] / 12.0)) * dt[k];
+            let phi = ((w + wp) * 0.5 + wp.cross(&w) * (dt[k] / 12.0)) * dt[k];
             let pred = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
             let e = (q[k] * pred.inverse()).scaled_axis();
             if e.iter().all(|v| v.is_finite()) {
@@ -1122,7 +1150,7 @@ mod tests {
         q[0] = UnitQuaternion::from_euler_angles(0.2, -0.3, 1.0);
         for k in 1..n {
             let (wp, w) = (rate(k - 1), rate(k));
-            let phi = (w + wp.cross(&w) * (0.01 / 12.0)) * 0.01;
+            let phi = ((w + wp) * 0.5 + wp.cross(&w) * (0.01 / 12.0)) * 0.01;
             q[k] = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
         }
         let acc = vec![Vec3::new(0.0, 0.0, 9.81); n];

@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 25] = [
+const DYNAMIC_PARAMS: [ParamInfo; 26] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -352,6 +352,12 @@ const DYNAMIC_PARAMS: [ParamInfo; 25] = [
         "m/s²",
         num(0.0, 10.0, false),
         "prior 1σ of the accelerometer bias learnt from rest to rest (0: off)",
+    ),
+    p(
+        "sensor_delay_periods",
+        "periods",
+        num(0.0, 10.0, false),
+        "the sensor's delay of its samples behind their time stamps (its anti-alias filter), in sample periods; the output is carried over it",
     ),
     p(
         "gravity_m_s2",
@@ -572,6 +578,7 @@ impl FilterSpec {
                     "gyro_scale_sigma" => &mut d.gyro_scale_sigma,
                     "accel_scale_sigma" => &mut d.accel_scale_sigma,
                     "accel_bias_sigma" => &mut d.accel_bias_sigma,
+                    "sensor_delay_periods" => &mut d.sensor_delay_periods,
                     "gravity_m_s2" => &mut d.gravity_m_s2,
                     _ => return Err(ParamError::UnknownKey),
                 };
@@ -626,6 +633,7 @@ impl FilterSpec {
                 "gyro_scale_sigma" => n(d.gyro_scale_sigma),
                 "accel_scale_sigma" => n(d.accel_scale_sigma),
                 "accel_bias_sigma" => n(d.accel_bias_sigma),
+                "sensor_delay_periods" => n(d.sensor_delay_periods),
                 "gravity_m_s2" => n(d.gravity_m_s2),
                 _ => return None,
             },
@@ -689,6 +697,7 @@ impl FilterSpec {
                     ("gyro_scale_sigma", d.gyro_scale_sigma),
                     ("accel_scale_sigma", d.accel_scale_sigma),
                     ("accel_bias_sigma", d.accel_bias_sigma),
+                    ("sensor_delay_periods", d.sensor_delay_periods),
                     ("gravity_m_s2", d.gravity_m_s2),
                 ];
                 for (k, x) in all {
