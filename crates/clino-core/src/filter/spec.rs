@@ -401,7 +401,7 @@ impl ParamInfo {
         if self.key.eq_ignore_ascii_case(key) {
             return true;
         }
-        for suffix in ["_rad_s", "_m_s2", "_s"] {
+        for suffix in ["_rad_s", "_m_s2", "_s", "_periods"] {
             if let Some(stem) = self.key.strip_suffix(suffix)
                 && stem.eq_ignore_ascii_case(key)
             {
@@ -847,6 +847,7 @@ mod tests {
                     .key
                     .trim_end_matches("_rad_s")
                     .trim_end_matches("_m_s2")
+                    .trim_end_matches("_periods")
                     .trim_end_matches("_s");
                 assert!(info.matches(short), "{}", info.key);
             }
