@@ -213,11 +213,23 @@ fn eval_scores_a_directory_and_prints_json() {
     let m = v["mean_rmse_deg"][0].as_f64().unwrap();
     assert_eq!(recs[0]["scores"][0]["rmse_deg"].as_f64().unwrap(), m);
     assert!(m > 0.0 && m < 10.0, "{m}");
-    let o = clino(&["eval", d.join("a.csv").to_str().unwrap()]);
+    // the sensor's delay behind the optical reference, in the JSON: BROAD's
+    // IMU lags it by about 1.2 sample periods (4.2 ms at 286 Hz) on every
+    // trial (BENCHMARKS.md)
+    let delay = &recs[0]["sensor_delay"];
+    let periods = delay["periods"].as_f64().unwrap();
+    assert!(periods > 1.0 && periods < 1.4, "{delay}");
+    let ms = delay["seconds"].as_f64().unwrap() * 1e3;
+    assert!((ms - periods * 3.5).abs() < 0.05, "{delay}");
+    let o = clino(&["eval", d.join("a.csv").to_str().unwrap(), "--delay"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let table = String::from_utf8(o.stdout).unwrap();
     assert!(
         table.contains("complementary") && table.contains("mean"),
+        "{table}"
+    );
+    assert!(
+        table.contains("delay ms") && table.contains("periods"),
         "{table}"
     );
 }

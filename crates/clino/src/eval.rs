@@ -113,6 +113,148 @@ pub struct RecordingScore {
     pub rows: u64,
     /// One score per filter, in the order asked.
     pub scores: Vec<FilterScore>,
+    /// How far the sensor's samples lag the reference ([`DelayEstimator`];
+    /// `null` when the recording does not turn enough to time it).
+    pub sensor_delay: Option<SensorDelay>,
+}
+
+/// How far a sensor's samples lag a reference orientation, from the
+/// recording itself ([`DelayEstimator`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SensorDelay {
+    /// The delay, s (negative: the reference lags the sensor).
+    pub seconds: f64,
+    /// The same in sample periods (the median step): the value for the
+    /// dynamic filter's `sensor_delay_periods` when the reference's time is
+    /// the time wanted.
+    pub periods: f64,
+}
+
+/// Largest delay [`DelayEstimator`] looks for, in samples either way.
+const DELAY_MAX_SAMPLES: usize = 8;
+
+/// The lag of a sensor's rate behind a reference orientation's, streaming,
+/// in memory fixed by [`DELAY_MAX_SAMPLES`].
+///
+/// The reference's rate at each row is the angle turned between its
+/// neighbours over their time (a centred difference, `|ω_ref|`); each
+/// sample's gyro rate `|ω|` is compared with the reference's rate j rows
+/// earlier, for j = −8…8, and the sum of squared differences over the
+/// recording is kept per j. The delay is the minimum of the parabola
+/// through the least sum and its two neighbours, in rows, times the median
+/// step. Magnitudes, not vectors, so the reference's body frame may be
+/// turned against the sensor's; a gyro bias or scale error adds to the
+/// sums evenly enough not to move the minimum. Why: the dynamic filter
+/// makes up the sensor's delay on its output (`sensor_delay_periods`), and
+/// the delay is a property of the sensor and its anti-alias filter setting
+/// that one recording against a reference measures for every recording.
+/// A recording that barely turns (the sums' curvature under 1 % of their
+/// least value's scale) gives no delay.
+#[derive(Clone, Debug)]
+pub struct DelayEstimator {
+    /// The last three reference rows (time, attitude), newest last.
+    refs: [(f64, Option<Attitude>); 3],
+    /// The last 2·L + 1 rows: (gyro rate, reference rate), NaN where unknown.
+    ring: [(f64, f64); 2 * DELAY_MAX_SAMPLES + 1],
+    filled: usize,
+    /// Rows pushed.
+    rows: u64,
+    /// The last row's gyro rate (its reference rate needs the next row).
+    pending: f64,
+    sse: [f64; 2 * DELAY_MAX_SAMPLES + 1],
+    count: [u64; 2 * DELAY_MAX_SAMPLES + 1],
+    steps: Vec<f64>,
+    last_t: f64,
+}
+
+impl Default for DelayEstimator {
+    fn default() -> Self {
+        Self {
+            refs: [(f64::NAN, None); 3],
+            ring: [(f64::NAN, f64::NAN); 2 * DELAY_MAX_SAMPLES + 1],
+            filled: 0,
+            rows: 0,
+            pending: f64::NAN,
+            sse: [0.0; 2 * DELAY_MAX_SAMPLES + 1],
+            count: [0; 2 * DELAY_MAX_SAMPLES + 1],
+            steps: Vec::new(),
+            last_t: f64::NAN,
+        }
+    }
+}
+
+impl DelayEstimator {
+    /// One row: its time, gyro rate and reference (if finite).
+    pub fn push(&mut self, t: f64, gyr: &clino_core::Vec3, reference: Option<Attitude>) {
+        let h = t - self.last_t;
+        if h.is_finite() && h > 0.0 && self.steps.len() < 4097 {
+            self.steps.push(h);
+        }
+        self.last_t = t;
+        self.refs = [self.refs[1], self.refs[2], (t, reference)];
+        // the previous row's reference rate, now that its next row is here
+        let r = match (self.refs[0], self.refs[2]) {
+            ((t0, Some(q0)), (t2, Some(q2))) if t2 > t0 => q0.angle_to(&q2) / (t2 - t0),
+            _ => f64::NAN,
+        };
+        if self.rows > 0 {
+            self.advance((self.pending, r));
+        }
+        self.rows += 1;
+        let g = gyr.norm();
+        self.pending = if g.is_finite() { g } else { f64::NAN };
+    }
+
+    fn advance(&mut self, row: (f64, f64)) {
+        let n = self.ring.len();
+        self.ring.rotate_left(1);
+        self.ring[n - 1] = row;
+        self.filled = (self.filled + 1).min(n);
+        if self.filled < n {
+            return;
+        }
+        // the middle row's gyro against the reference j rows before it
+        let (g, _) = self.ring[DELAY_MAX_SAMPLES];
+        if g.is_nan() {
+            return;
+        }
+        for (k, (sse, c)) in self.sse.iter_mut().zip(&mut self.count).enumerate() {
+            // k = L + j; the reference j rows earlier sits at L − j = 2L − k
+            let r = self.ring[2 * DELAY_MAX_SAMPLES - k].1;
+            if r.is_finite() {
+                *sse += (g - r) * (g - r);
+                *c += 1;
+            }
+        }
+    }
+
+    /// The delay, or `None` when there is too little turning to time.
+    pub fn finish(&self) -> Option<SensorDelay> {
+        let mean: Vec<f64> = self
+            .sse
+            .iter()
+            .zip(&self.count)
+            .map(|(s, &c)| if c > 100 { s / c as f64 } else { f64::NAN })
+            .collect();
+        if mean.iter().any(|m| !m.is_finite()) {
+            return None;
+        }
+        let k = (1..mean.len() - 1).min_by(|&a, &b| mean[a].total_cmp(&mean[b]))?;
+        let (a, b, c) = (mean[k - 1], mean[k], mean[k + 1]);
+        let curv = a - 2.0 * b + c;
+        // a minimum on the edge or a flat bottom is no measurement
+        if !(b <= a && b <= c) || curv <= 0.01 * b.max(1e-12) {
+            return None;
+        }
+        let rows = (k as f64 - DELAY_MAX_SAMPLES as f64) + 0.5 * (a - c) / curv;
+        let mut st = self.steps.clone();
+        st.sort_by(|x, y| x.total_cmp(y));
+        let h = *st.get(st.len() / 2)?;
+        Some(SensorDelay {
+            seconds: rows * h,
+            periods: rows,
+        })
+    }
 }
 
 /// Scores of several filters on several recordings, with the mean per filter.
@@ -205,7 +347,9 @@ pub fn score_reader<R: Read>(
     let any_offline = configs.iter().any(|c| c.offline);
     let mut samples = Vec::new();
     let mut refs = Vec::new();
+    let mut delay = DelayEstimator::default();
     while let Some(row) = reader.next_row()? {
+        delay.push(row.sample.t_s, &row.sample.gyr_rad_s, row.ref_q);
         let scored = row.movement == Some(true);
         for ((p, acc), c) in pipes.iter_mut().zip(rms.iter_mut()).zip(configs) {
             if c.offline {
@@ -248,6 +392,7 @@ pub fn score_reader<R: Read>(
                 dropouts: *d,
             })
             .collect(),
+        sensor_delay: delay.finish(),
     })
 }
 
@@ -415,6 +560,46 @@ impl EvalTable {
         s
     }
 
+    /// The sensor's delay behind the reference per recording
+    /// ([`RecordingScore::sensor_delay`]), in ms and sample periods, and the
+    /// mean of those that could be timed.
+    pub fn delay_text(&self) -> String {
+        let names: Vec<String> = self
+            .recordings
+            .iter()
+            .map(|r| {
+                r.file
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| r.file.display().to_string())
+            })
+            .collect();
+        let w0 = names.iter().map(|n| n.len()).chain([9]).max().unwrap_or(9);
+        let mut s = format!(
+            "{:<w0$}  {:>9}  {:>8}\n",
+            "recording", "delay ms", "periods"
+        );
+        let mut timed = Vec::new();
+        for (n, r) in names.iter().zip(&self.recordings) {
+            match r.sensor_delay {
+                Some(d) => {
+                    s.push_str(&format!(
+                        "{n:<w0$}  {:>9.2}  {:>8.2}\n",
+                        d.seconds * 1e3,
+                        d.periods
+                    ));
+                    timed.push(d.periods);
+                }
+                None => s.push_str(&format!("{n:<w0$}  {:>9}  {:>8}\n", "n/a", "n/a")),
+            }
+        }
+        if !timed.is_empty() {
+            let m = timed.iter().sum::<f64>() / timed.len() as f64;
+            s.push_str(&format!("{:<w0$}  {:>9}  {m:>8.2}\n", "mean", ""));
+        }
+        s
+    }
+
     /// True when some filter gave a non-finite attitude on a scored sample.
     pub fn any_failed(&self) -> bool {
         self.recordings
@@ -492,6 +677,7 @@ mod tests {
             file: "a.csv".into(),
             rows: 5,
             scores: vec![score(nf)],
+            sensor_delay: None,
         };
         let cfg = [FilterConfig::new(crate::fusion::FilterKind::Mahony)];
         let t = EvalTable::new(&cfg, vec![rec(0), rec(3)]);
@@ -501,6 +687,55 @@ mod tests {
         );
         assert!(t.any_failed());
         assert!(t.to_text().contains("FAILED"));
+    }
+
+    /// A turn with a rate whose axis and size change (1–3 rad/s), the
+    /// reference exact at the time stamps and the gyro `lag` periods behind
+    /// them at 100 Hz, with a bias and noise; the reference's body frame
+    /// turned 30° against the sensor's.
+    fn delay_of(lag: f64, turning: bool) -> Option<SensorDelay> {
+        use clino_core::Vec3;
+        let h = 0.01;
+        let rate = |t: f64| {
+            if !turning {
+                return Vec3::zeros();
+            }
+            Vec3::new(
+                2.0 * (1.3 * t).sin(),
+                1.5 * (0.7 * t).cos(),
+                1.0 + 0.5 * (2.1 * t).sin(),
+            )
+        };
+        let mount = Attitude::from_euler_angles(0.5, 0.0, 0.0);
+        let mut q = Attitude::identity();
+        let mut est = DelayEstimator::default();
+        let mut noise = 0.37f64;
+        let sub = 20;
+        for k in 0..6000 {
+            let t = k as f64 * h;
+            noise = (noise * 9301.0 + 0.49297).fract();
+            let gyr = rate(t - lag * h)
+                + Vec3::new(0.01, -0.02, 0.005)
+                + Vec3::repeat(0.002 * (noise - 0.5));
+            est.push(t, &gyr, Some(q * mount));
+            for j in 0..sub {
+                let tj = t + (j as f64 + 0.5) * h / sub as f64;
+                q *= Attitude::from_scaled_axis(rate(tj) * (h / sub as f64));
+            }
+        }
+        est.finish()
+    }
+
+    #[test]
+    fn the_sensor_delay_is_timed_against_the_reference() {
+        for lag in [0.0, 0.5, 1.0, 2.7, -1.3] {
+            let d = delay_of(lag, true).expect("a turning recording is timed");
+            assert!((d.periods - lag).abs() < 0.05, "{lag}: {d:?}");
+            assert!((d.seconds - lag * 0.01).abs() < 0.0005, "{lag}: {d:?}");
+        }
+        // beyond the window, or nothing turning: no delay rather than a wrong one
+        assert_eq!(delay_of(9.5, true), None);
+        assert_eq!(delay_of(1.0, false), None);
     }
 
     #[test]

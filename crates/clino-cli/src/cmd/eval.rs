@@ -20,6 +20,12 @@ pub struct Args {
     /// Print machine-readable JSON to stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Also print how far each recording's sensor samples lag its reference
+    /// (its gyro's rate against the reference's, in ms and sample periods):
+    /// the value for `dynamic:sensor_delay_periods` where the reference's
+    /// time is the time wanted. (The JSON always carries it.)
+    #[arg(long)]
+    pub delay: bool,
     /// Recordings scored at once, one per thread (default: every core). The
     /// table and the numbers do not depend on it.
     #[arg(long, short = 'j', value_name = "N", value_parser = clap::value_parser!(u16).range(1..))]
@@ -60,6 +66,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     } else {
         println!("inclination RMSE, degrees (BROAD scoring: movement = 1, finite reference)");
         print!("{}", table.to_text());
+        if a.delay {
+            println!(
+                "\nthe sensor's delay behind the reference (its gyro's rate against the reference's; n/a: too little turning to time)"
+            );
+            print!("{}", table.delay_text());
+        }
     }
     if table.any_failed() {
         anyhow::bail!(
