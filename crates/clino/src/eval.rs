@@ -134,7 +134,7 @@ pub struct SensorDelay {
 const DELAY_MAX_SAMPLES: usize = 8;
 
 /// The lag of a sensor's rate behind a reference orientation's, streaming,
-/// in memory fixed by [`DELAY_MAX_SAMPLES`].
+/// in fixed memory (the last 17 rows).
 ///
 /// The reference's rate at each row is the angle turned between its
 /// neighbours over their time (a centred difference, `|ω_ref|`); each
