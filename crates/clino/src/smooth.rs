@@ -604,8 +604,9 @@ fn carry_over_delay(q: &mut [Attitude], dt: &[f64], periods: f64) {
 /// The tilt corrections an attitude sequence `q` made beyond the gyro, per
 /// sample, in the form [`rts_axis`] takes them: for e_k, the rotation vector
 /// of q_k ⊗ (q_{k−1} ⊗ Δq_k)*, where Δq_k is the gyro's step over the
-/// interval ending at sample k (rate (ω − b_k)·(1 − s), the two-sample coning
-/// term as in the filter), the entries (−e_N, e_E): the steps of the tilt
+/// interval ending at sample k (the rate (ω − b)·(1 − s) linear between
+/// samples k−1 and k, with the two-sample coning term, as in the filter),
+/// the entries (−e_N, e_E): the steps of the tilt
 /// error states (δ_N, −δ_E) of the refinement when the gyro is right.
 /// Samples the passes' pipeline did not use (a NaN, a reading beyond the
 /// physical bounds: [`clino_core::pipeline::admission`]; dt ≤ 0) contribute
@@ -957,6 +958,51 @@ mod tests {
         let received = score(&|k| !lost(k));
         // 0.18° against 0.13°; the passes on the gaps as they are: 0.94°
         assert!(received < 2.0 * full, "{received}° against {full}°");
+    }
+
+    /// A drum turning about its horizontal body x axis (5 s still, a 1-s
+    /// ramp to 2 rad/s, 20 s turning, a 1-s ramp down, 8 s still) read by a
+    /// perfect sensor whose samples lag their time stamps by one period at
+    /// 100 Hz; the offline RMS tilt error against the truth at the time
+    /// stamps over the turn and the stop (from 6 s), degrees.
+    fn delayed_drum_offline(sensor_delay_periods: f64) -> f64 {
+        let h = 0.01;
+        let w = |t: f64| 2.0 * ((t - 5.0).clamp(0.0, 1.0) - (t - 26.0).clamp(0.0, 1.0));
+        let angle = |t: f64| {
+            let up = |x: f64| {
+                let x = x.max(0.0);
+                if x < 1.0 { x * x } else { 2.0 * x - 1.0 }
+            };
+            up(t - 5.0) - up(t - 26.0)
+        };
+        let truth = |t: f64| Attitude::from_axis_angle(&Vec3::x_axis(), angle(t));
+        let n = (35.0 / h) as usize;
+        let (mut g, mut a) = (Vec::new(), Vec::new());
+        for k in 0..n {
+            let ts = k as f64 * h - h;
+            g.push(Vec3::new(w(ts), 0.0, 0.0));
+            a.push(truth(ts).inverse_transform_vector(&Vec3::new(0.0, 0.0, clino_core::G0)));
+        }
+        let mut opts = SmoothOptions::default();
+        opts.params.sensor_delay_periods = sensor_delay_periods;
+        let q = smooth(&g, &a, &vec![h; n], &opts);
+        let from = (6.0 / h) as usize;
+        let s: f64 = (from..n)
+            .map(|k| tilt_err(&q[k], &truth(k as f64 * h)).powi(2))
+            .sum();
+        (s / (n - from) as f64).sqrt().to_degrees()
+    }
+
+    #[test]
+    fn the_smoother_makes_up_the_sensors_delay() {
+        // the passes at the samples' instants, then carried on over the delay:
+        // with the sensor's own delay given the turn is followed to within
+        // the steps' error; without, the attitude lags by ω·h = 1.15° while
+        // turning (0.96° RMS over the turn and the stop; 0.007° made up)
+        let made_up = delayed_drum_offline(1.0);
+        let not = delayed_drum_offline(0.0);
+        assert!(made_up < 0.02, "{made_up}°");
+        assert!(not > 0.8, "{not}°");
     }
 
     /// Simulated slewing machine with a constant gyro bias and no lever-arm knowledge
