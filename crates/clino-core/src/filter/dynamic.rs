@@ -2678,10 +2678,7 @@ impl AttitudeFilter for Dynamic {
     fn attitude(&self) -> Attitude {
         let lead = self.params.sensor_delay_periods * self.dt_nominal;
         if lead > 0.0 && self.w_prev.iter().all(|v| v.is_finite()) {
-            // the strapdown step at a constant rate: its series, not trig
-            // (a tenth of the cost on a Cortex-M4F's soft double)
-            let dq = rotation_step(&self.w_prev, &self.w_prev, lead);
-            Attitude::new_normalize(self.q.quaternion() * dq)
+            self.q * Attitude::from_scaled_axis(self.w_prev * lead)
         } else {
             self.q
         }
