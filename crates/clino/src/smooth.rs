@@ -408,12 +408,12 @@ fn typical_step(dt: &[f64]) -> Option<f64> {
 /// are first filled at the typical step with rate and specific force
 /// interpolated linearly between the samples around them, and the passes
 /// run on the filled recording; the attitudes of the samples given are
-/// returned. The real-time filter interpolates the rate across a gap in
-/// its forward step; the backward passes, which see each interval from its
-/// other end, and the refinement's gyro model cannot, so the recording they
-/// see has none (hand @40 Hz, 5 % of samples lost in bursts of five: 1.24°
-/// against 0.16° without loss; BENCHMARKS.md). Memory: only with gaps, a
-/// filled copy of the inputs.
+/// returned. Every pass interpolates the rate across a gap in its own step
+/// (the rate linear between samples), but the refinement's models are
+/// sampled at the typical step, so the recording they all see has none
+/// (hand @40 Hz, 5 % of samples lost in bursts of five: 1.24° against 0.16°
+/// without loss before the fill, when the steps still held one end's rate;
+/// BENCHMARKS.md). Memory: only with gaps, a filled copy of the inputs.
 fn smooth_compensated(
     gyr: &[Vec3],
     acc: &[Vec3],
