@@ -389,8 +389,9 @@ pub struct DynamicParams {
     /// instants and the motion is a fast turn that goes on (the drum on a
     /// sensor without delay): 1.07 → 1.84× VQF, whose newest-rate lead the
     /// loop pulls to nothing over a long turn (BENCHMARKS.md). Not fitted
-    /// to BROAD, whose samples lag its reference by about a whole period
-    /// (0.457° with 1.0).
+    /// to BROAD, whose samples lag its reference by 1.19 periods on every
+    /// trial (`clino eval --delay` measures it against any reference; with
+    /// that value BROAD scores 0.449°).
     pub sensor_delay_periods: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
