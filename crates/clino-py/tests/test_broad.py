@@ -40,7 +40,12 @@ def arrays_score(path, filter="dynamic", **kw):
 
 def test_eval_on_the_excerpt_equals_cli(cli):
     cl = cli_json(cli, "eval", EXCERPT, "-f", "all", "--offline")
-    assert_same_table(clino.evaluate(EXCERPT, "all", offline=True), cl)
+    py = clino.evaluate(EXCERPT, "all", offline=True)
+    assert_same_table(py, cl)
+    # the sensor's delay behind the reference: BROAD's IMU, about 1.2 periods
+    d = py["recordings"][0]["sensor_delay"]
+    assert d == cl["recordings"][0]["sensor_delay"]
+    assert 1.0 < d["periods"] < 1.4, d
     s = arrays_score(EXCERPT, "mahony")
     want = scores(cl)[(str(EXCERPT), "mahony")]
     assert s["scored"] == want["scored"]
@@ -95,3 +100,5 @@ def test_evaluate_as_frame_and_in_parallel_is_the_same(broad_dir):
     assert len(df) == 24 and set(df["filter"]) == {"dynamic", "mahony"}
     mean = df[df["filter"] == "dynamic"]["rmse_deg"].mean()
     assert abs(mean - one["mean_rmse_deg"][0]) <= 1e-12
+    # one sensor setting, one delay: every trial's within 1.1–1.3 periods
+    assert df["sensor_delay_periods"].between(1.1, 1.3).all(), df["sensor_delay_periods"]

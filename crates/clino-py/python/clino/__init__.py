@@ -382,10 +382,13 @@ def evaluate(
 
     ``paths``: files or directories (every ``*.csv``/``*.parquet`` inside).
     Returns the dict ``clino eval --json`` prints (``filters``, ``recordings``
-    with per-filter ``rmse_deg``, ``scored``, ``non_finite``, ``dropouts``, and
-    ``mean_rmse_deg``), or with ``as_frame=True`` a pandas DataFrame, one row per
-    (recording, filter). One task per recording on ``jobs`` threads (all cores by
-    default), GIL released.
+    with per-filter ``rmse_deg``, ``scored``, ``non_finite``, ``dropouts``, the
+    recording's ``sensor_delay`` — how far its samples lag the reference,
+    ``seconds`` and ``periods``, the value for ``sensor_delay_periods``; None
+    when it barely turns — and ``mean_rmse_deg``), or with ``as_frame=True`` a
+    pandas DataFrame, one row per (recording, filter), the delay as
+    ``sensor_delay_periods``. One task per recording on ``jobs`` threads (all
+    cores by default), GIL released.
     """
     if isinstance(paths, (str, _os.PathLike)):
         paths = [paths]
@@ -401,7 +404,14 @@ def evaluate(
         return out
     pd = _pandas()
     rows = [
-        {"file": r["file"], "rows": r["rows"], **s}
+        {
+            "file": r["file"],
+            "rows": r["rows"],
+            "sensor_delay_periods": (
+                float("nan") if r.get("sensor_delay") is None else r["sensor_delay"]["periods"]
+            ),
+            **s,
+        }
         for r in out["recordings"]
         for s in r["scores"]
     ]
