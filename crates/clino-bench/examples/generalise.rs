@@ -50,6 +50,12 @@
 //!
 //! And both on sensors switched on already moving (no initial rest).
 //!
+//! And the sensor's delay: the hand at 40 Hz and the drum, their reference
+//! re-timed so that the samples lag it by 0 (time stamps re-timed to the
+//! samples), 0.4 (the simulator's own anti-alias filter, the grid's) and
+//! 1.2 periods (BROAD's sensor, `clino eval --delay`): VQF, `dynamic` with
+//! its default `sensor_delay_periods` (0.5) and with the delay given.
+//!
 //! `--export DIR` also writes every simulated recording but the slewing
 //! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
@@ -553,6 +559,76 @@ fn received(n: usize, p: f64, burst: usize, seed: u64) -> Vec<bool> {
         }
     }
     keep
+}
+
+/// `rec` scored against its truth re-timed by `x` sample periods: row k
+/// against the truth at t_k + x·h, slerped between the neighbouring rows'
+/// truths (the motions are smooth over a period). The rows beyond the ends
+/// keep the end's truth.
+fn retimed(rec: &Rec, x: f64) -> Rec {
+    let n = rec.truth.len();
+    let (j, f) = (x.floor() as isize, x - x.floor());
+    let at = |k: isize| rec.truth[k.clamp(0, n as isize - 1) as usize];
+    let truth = (0..n as isize)
+        .map(|k| match (at(k + j), at(k + j + 1)) {
+            (Some(a), Some(b)) => Some(a.slerp(&b, f)),
+            (a, _) => a,
+        })
+        .collect();
+    Rec {
+        samples: rec.samples.clone(),
+        truth,
+        scored: rec.scored.clone(),
+        rest: rec.rest.clone(),
+        lever: rec.lever,
+    }
+}
+
+/// The sensor's delay behind the reference ([`retimed`]): VQF, `dynamic` as
+/// given and `dynamic` with `sensor_delay_periods` set to the delay.
+fn delay_table(seeds: u64, dynamic: &FilterSpec) {
+    // the simulator's first-order anti-alias filter at 0.4·f_s delays by
+    // 1/(2π·0.4) = 0.40 periods
+    const SIMULATED: f64 = 0.4;
+    println!("\nthe sensor's delay behind the reference: inclination RMSE (mean over the seeds)");
+    println!(
+        "{:<22}{:>8}{:>9}{:>10}{:>7}{:>14}{:>7}",
+        "condition", "delay", "vqf °", "dynamic", "ratio", "delay given", "ratio"
+    );
+    for (name, kind, rate) in [
+        ("hand@40Hz cal", Kind::Hand, 40.0),
+        ("drum@100Hz cal", Kind::Drum, 100.0),
+    ] {
+        let c = Condition {
+            name: name.into(),
+            kind,
+            sensor: Sensor::Calibrated,
+            rate,
+        };
+        let recs: Vec<Rec> = (1..=seeds).map(|seed| make(&c, seed)).collect();
+        for delay in [0.0, SIMULATED, 1.2] {
+            let mut given = *dynamic;
+            if let FilterSpec::Dynamic(p) = &mut given {
+                p.sensor_delay_periods = delay;
+            }
+            let (mut v, mut d, mut g) = (0.0, 0.0, 0.0);
+            for rec in &recs {
+                let r = retimed(rec, delay - SIMULATED);
+                v += rmse(&r, &run_vqf(&r));
+                d += rmse(&r, &run_clino(&r, dynamic));
+                g += rmse(&r, &run_clino(&r, &given));
+            }
+            let k = seeds as f64;
+            println!(
+                "{name:<22}{delay:>8.1}{:>9.3}{:>10.3}{:>7.2}{:>14.3}{:>7.2}",
+                v / k,
+                d / k,
+                d / v,
+                g / k,
+                g / v
+            );
+        }
+    }
 }
 
 /// Samples lost on the way (a radio link's dropouts): the calibrated hand at
@@ -1097,6 +1173,9 @@ fn main() -> clino::Result<()> {
     }
     if only.as_deref().is_none_or(|o| "started".contains(o)) {
         started_in_motion(seeds, &dynamic);
+    }
+    if only.as_deref().is_none_or(|o| "delay".contains(o)) {
+        delay_table(seeds, &dynamic);
     }
     if all_ratio.iter().any(|r| !r.is_empty()) {
         print!("{:<40}", "largest mean ratio over the conditions");

@@ -372,7 +372,10 @@ pub struct DynamicParams {
     /// DLPF chosen for its rate: 44 Hz at 100 Hz, 4.8 ms) by 0.4–0.5. It is
     /// also the lead the newest-rate step of other filters (VQF's) gives the
     /// gyro in a turn, so in hand-like motion the timing error this leaves
-    /// on a sensor of unknown delay is theirs. Set the datasheet's delay
+    /// on a sensor of unknown delay is theirs: on the hand at 40 Hz with the
+    /// samples 0, 0.4 and 1.2 periods behind the reference, 0.94, 0.68 and
+    /// 1.00× VQF, where 0.4 gives 1.13× at 1.2 and 0.6 gives 1.12× at 0
+    /// (`generalise --only delay`; given the delay, 0.17–0.47×). Set the datasheet's delay
     /// over the period where it is known (an MPU6050 at 200 Hz behind its
     /// 44-Hz DLPF: 0.96; at 1 kHz behind the 98-Hz one: 2.8), 0 where the
     /// time stamps already mark the instant the samples stand for.
