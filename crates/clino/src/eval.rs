@@ -506,9 +506,9 @@ impl EvalTable {
         }
     }
 
-    /// A fixed-width text table: one line per recording, one column per
-    /// filter, inclination RMSE in degrees, and the mean.
-    pub fn to_text(&self) -> String {
+    /// The recordings' names as the text tables print them (the file stem),
+    /// and the width of their column.
+    fn row_names(&self) -> (Vec<String>, usize) {
         let names: Vec<String> = self
             .recordings
             .iter()
@@ -520,6 +520,13 @@ impl EvalTable {
             })
             .collect();
         let w0 = names.iter().map(|n| n.len()).chain([9]).max().unwrap_or(9);
+        (names, w0)
+    }
+
+    /// A fixed-width text table: one line per recording, one column per
+    /// filter, inclination RMSE in degrees, and the mean.
+    pub fn to_text(&self) -> String {
+        let (names, w0) = self.row_names();
         let widths: Vec<usize> = self.filters.iter().map(|f| f.len().max(7)).collect();
         let mut s = format!("{:<w0$}", "recording");
         for (f, w) in self.filters.iter().zip(&widths) {
@@ -564,17 +571,7 @@ impl EvalTable {
     /// ([`RecordingScore::sensor_delay`]), in ms and sample periods, and the
     /// mean of those that could be timed.
     pub fn delay_text(&self) -> String {
-        let names: Vec<String> = self
-            .recordings
-            .iter()
-            .map(|r| {
-                r.file
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_else(|| r.file.display().to_string())
-            })
-            .collect();
-        let w0 = names.iter().map(|n| n.len()).chain([9]).max().unwrap_or(9);
+        let (names, w0) = self.row_names();
         let mut s = format!(
             "{:<w0$}  {:>9}  {:>8}\n",
             "recording", "delay ms", "periods"
