@@ -143,11 +143,27 @@ impl Default for BoundedMotion {
 /// compensation is done once, before the passes, see [`compensate_centred`]),
 /// resumed from `start` (attitude and bias) when given.
 fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Pipeline {
+    make_timed(opts, start, learn, false)
+}
+
+/// [`make`], and with `delayed` the sensor's delay kept in the filter for
+/// its rest pairs (a forward pass that learns: their rotation between two
+/// rests is read at the true motion's instants, the samples the delay later;
+/// [`DynamicParams::sensor_delay_periods`]). Otherwise the passes work at the
+/// samples' instants, forwards and backwards alike, and the delay is made
+/// up once, on the result; the attitudes the passes hand on are the states
+/// ([`state`]) either way.
+fn make_timed(
+    opts: &SmoothOptions,
+    start: Option<(Attitude, Vec3)>,
+    learn: bool,
+    delayed: bool,
+) -> Pipeline {
     let mut params = opts.params;
     params.learn_bias = learn;
-    // the passes work at the samples' instants (forwards and backwards
-    // alike); the sensor's delay is made up once, on the result
-    params.sensor_delay_periods = 0.0;
+    if !delayed {
+        params.sensor_delay_periods = 0.0;
+    }
     let mut p = Pipeline::new(FilterSpec::Dynamic(params));
     if let Some((q, b)) = start
         && let Some(f) = p.filter_mut().as_dynamic_mut()
@@ -155,6 +171,14 @@ fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> P
         f.resume(q, b);
     }
     p
+}
+
+/// A pass's attitude at the samples' instant (a dynamic filter's state, not
+/// carried over the sensor's delay).
+fn state(f: &Pipeline) -> Attitude {
+    f.filter()
+        .as_dynamic()
+        .map_or_else(|| f.filter().attitude(), |d| d.sampled_attitude())
 }
 
 /// Half-width of the centred differentiator window, s (window 50 ms, as the
@@ -491,9 +515,9 @@ fn smooth_regular(
     // forwards again (from the start's bias); each pass starts where the
     // previous one ended (attitude and bias), so no pass starts cold in the
     // middle of motion
-    let mut fa = make(opts, None, true);
+    let mut fa = make_timed(opts, None, true, true);
     run(1, false, &mut fa, None, &mut |_, _| {});
-    let (qa, ba) = (fa.filter().attitude(), fa.filter().gyro_bias());
+    let (qa, ba) = (state(&fa), fa.filter().gyro_bias());
     let mut fb = make(opts, Some((qa, -ba)), true);
     // the smoothed bias trajectory, built in place: first the backward
     // pass's estimate, then its mean with the second forward pass's
@@ -502,11 +526,11 @@ fn smooth_regular(
         bs[i] = rate_correction(f, &gyr[i], -1.0)
     });
     let qb = fb.filter().attitude();
-    let mut fc = make(opts, Some((qb, bs[0])), true);
+    let mut fc = make_timed(opts, Some((qb, bs[0])), true, true);
     run(3, false, &mut fc, None, &mut |i, f| {
         bs[i] = (bs[i] + rate_correction(f, &gyr[i], 1.0)) * 0.5
     });
-    let qc = fc.filter().attitude();
+    let qc = state(&fc);
     // what the second forward pass learnt of the accelerometer's scale errors
     // and bias over the whole record (rest to rest), imposed from the first
     // sample on in the passes that follow, which do not learn. Not the gyro
