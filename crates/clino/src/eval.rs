@@ -184,8 +184,12 @@ impl Default for DelayEstimator {
 }
 
 impl DelayEstimator {
-    /// One row: its time, gyro rate and reference (if finite).
-    pub fn push(&mut self, t: f64, gyr: &clino_core::Vec3, reference: Option<Attitude>) {
+    /// One row: its sample and reference (if finite). A gyro rate the
+    /// filters would not take (non-finite, beyond the physical bounds:
+    /// [`clino_core::pipeline::admission`]) is not compared, as a row without
+    /// a reference is not; the rows keep their places.
+    pub fn push(&mut self, sample: &clino_core::ImuSample, reference: Option<Attitude>) {
+        let t = sample.t_s;
         let h = t - self.last_t;
         if h.is_finite() && h > 0.0 && self.steps.len() < 4097 {
             self.steps.push(h);
@@ -201,8 +205,10 @@ impl DelayEstimator {
             self.advance((self.pending, r));
         }
         self.rows += 1;
-        let g = gyr.norm();
-        self.pending = if g.is_finite() { g } else { f64::NAN };
+        self.pending = match clino_core::pipeline::admission(sample) {
+            None => sample.gyr_rad_s.norm(),
+            Some(_) => f64::NAN,
+        };
     }
 
     fn advance(&mut self, row: (f64, f64)) {
@@ -349,7 +355,7 @@ pub fn score_reader<R: Read>(
     let mut refs = Vec::new();
     let mut delay = DelayEstimator::default();
     while let Some(row) = reader.next_row()? {
-        delay.push(row.sample.t_s, &row.sample.gyr_rad_s, row.ref_q);
+        delay.push(&row.sample, row.ref_q);
         let scored = row.movement == Some(true);
         for ((p, acc), c) in pipes.iter_mut().zip(rms.iter_mut()).zip(configs) {
             if c.offline {
@@ -691,6 +697,15 @@ mod tests {
     /// them at 100 Hz, with a bias and noise; the reference's body frame
     /// turned 30° against the sensor's.
     fn delay_of(lag: f64, turning: bool) -> Option<SensorDelay> {
+        delay_with(lag, turning, |_| None)
+    }
+
+    /// [`delay_of`] with the gyro of some rows replaced (`bad(k)`).
+    fn delay_with(
+        lag: f64,
+        turning: bool,
+        bad: impl Fn(usize) -> Option<clino_core::Vec3>,
+    ) -> Option<SensorDelay> {
         use clino_core::Vec3;
         let h = 0.01;
         let rate = |t: f64| {
@@ -714,7 +729,9 @@ mod tests {
             let gyr = rate(t - lag * h)
                 + Vec3::new(0.01, -0.02, 0.005)
                 + Vec3::repeat(0.002 * (noise - 0.5));
-            est.push(t, &gyr, Some(q * mount));
+            let gyr = bad(k).unwrap_or(gyr);
+            let acc = clino_core::Vec3::new(0.0, 0.0, 9.81);
+            est.push(&clino_core::ImuSample::new(t, gyr, acc), Some(q * mount));
             for j in 0..sub {
                 let tj = t + (j as f64 + 0.5) * h / sub as f64;
                 q *= Attitude::from_scaled_axis(rate(tj) * (h / sub as f64));
@@ -733,6 +750,20 @@ mod tests {
         // beyond the window, or nothing turning: no delay rather than a wrong one
         assert_eq!(delay_of(9.5, true), None);
         assert_eq!(delay_of(1.0, false), None);
+        // corrupt gyro readings (NaN, 1e308, 1e150: beyond the bounds the
+        // filters refuse) are left out, not summed into every shift
+        let clean = delay_of(1.0, true).unwrap();
+        let bad = |k: usize| match k {
+            1000 => Some(clino_core::Vec3::new(f64::NAN, 0.0, 0.0)),
+            2000 => Some(clino_core::Vec3::new(1e308, 0.0, 0.0)),
+            3000 => Some(clino_core::Vec3::new(0.0, 1e150, 0.0)),
+            _ => None,
+        };
+        let dirty = delay_with(1.0, true, bad).expect("still timed");
+        assert!(
+            (dirty.periods - clean.periods).abs() < 0.01,
+            "{dirty:?} {clean:?}"
+        );
     }
 
     #[test]
