@@ -566,10 +566,10 @@ fn received(n: usize, p: f64, burst: usize, seed: u64) -> Vec<bool> {
 /// truths (the motions are smooth over a period). The rows beyond the ends
 /// keep the end's truth.
 fn retimed(rec: &Rec, x: f64) -> Rec {
-    let n = rec.truth.len();
+    let n = rec.truth.len().max(1);
     let (j, f) = (x.floor() as isize, x - x.floor());
     let at = |k: isize| rec.truth[k.clamp(0, n as isize - 1) as usize];
-    let truth = (0..n as isize)
+    let truth = (0..rec.truth.len() as isize)
         .map(|k| match (at(k + j), at(k + j + 1)) {
             (Some(a), Some(b)) => Some(a.slerp(&b, f)),
             (a, _) => a,

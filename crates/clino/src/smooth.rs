@@ -142,18 +142,15 @@ impl Default for BoundedMotion {
 /// A pipeline running the dynamic filter of `opts` (without lever arm: the
 /// compensation is done once, before the passes, see [`compensate_centred`]),
 /// resumed from `start` (attitude and bias) when given.
-fn make(opts: &SmoothOptions, start: Option<(Attitude, Vec3)>, learn: bool) -> Pipeline {
-    make_timed(opts, start, learn, false)
-}
-
-/// [`make`], and with `delayed` the sensor's delay kept in the filter for
-/// its rest pairs (a forward pass that learns: their rotation between two
-/// rests is read at the true motion's instants, the samples the delay later;
-/// [`DynamicParams::sensor_delay_periods`]). Otherwise the passes work at the
-/// samples' instants, forwards and backwards alike, and the delay is made
-/// up once, on the result; the attitudes the passes hand on are the states
+///
+/// With `delayed` the sensor's delay stays in the filter for its rest pairs
+/// (a forward pass that learns: their rotation between two rests is read at
+/// the true motion's instants, the samples the delay later;
+/// [`DynamicParams::sensor_delay_periods`]). Otherwise the pass works at the
+/// samples' instants, forwards or backwards, and the delay is made up once,
+/// on the result; the attitudes the passes hand on are the states
 /// ([`state`]) either way.
-fn make_timed(
+fn make(
     opts: &SmoothOptions,
     start: Option<(Attitude, Vec3)>,
     learn: bool,
@@ -515,18 +512,18 @@ fn smooth_regular(
     // forwards again (from the start's bias); each pass starts where the
     // previous one ended (attitude and bias), so no pass starts cold in the
     // middle of motion
-    let mut fa = make_timed(opts, None, true, true);
+    let mut fa = make(opts, None, true, true);
     run(1, false, &mut fa, None, &mut |_, _| {});
     let (qa, ba) = (state(&fa), fa.filter().gyro_bias());
-    let mut fb = make(opts, Some((qa, -ba)), true);
+    let mut fb = make(opts, Some((qa, -ba)), true, false);
     // the smoothed bias trajectory, built in place: first the backward
     // pass's estimate, then its mean with the second forward pass's
     let mut bs = vec![Vec3::zeros(); n];
     run(2, true, &mut fb, None, &mut |i, f| {
         bs[i] = rate_correction(f, &gyr[i], -1.0)
     });
-    let qb = fb.filter().attitude();
-    let mut fc = make_timed(opts, Some((qb, bs[0])), true, true);
+    let qb = state(&fb);
+    let mut fc = make(opts, Some((qb, bs[0])), true, true);
     run(3, false, &mut fc, None, &mut |i, f| {
         bs[i] = (bs[i] + rate_correction(f, &gyr[i], 1.0)) * 0.5
     });
@@ -570,11 +567,11 @@ fn smooth_regular(
     // 4–5: tilt forwards and backwards with that bias imposed; the backward
     // pass combines as it goes, over the forward attitudes
     let mut q = vec![Attitude::identity(); n];
-    let mut fd = with_errs(make(opts, Some((qb, bs[0])), false));
+    let mut fd = with_errs(make(opts, Some((qb, bs[0])), false, false));
     run(4, false, &mut fd, Some(&bs), &mut |i, f| {
         q[i] = f.filter().attitude()
     });
-    let mut fe = with_errs(make(opts, Some((qc, -bs[n - 1])), false));
+    let mut fe = with_errs(make(opts, Some((qc, -bs[n - 1])), false, false));
     run(5, true, &mut fe, Some(&bs), &mut |i, f| {
         q[i] = combine(&q[i], &f.filter().attitude())
     });
@@ -1053,7 +1050,7 @@ mod tests {
         let (g, a, d, q) = recording();
         let opts = SmoothOptions::default();
         let off = smooth(&g, &a, &d, &opts);
-        let mut f = make(&SmoothOptions::default(), None, true);
+        let mut f = make(&SmoothOptions::default(), None, true, false);
         let mut on = vec![Attitude::identity(); g.len()];
         pass(
             &g,

@@ -4431,6 +4431,40 @@ mod tests {
     }
 
     #[test]
+    fn the_pairs_step_is_the_shifted_rate_s_integral() {
+        // about one axis (no coning): the angle of `segment_step` against
+        // the integral over [lag, dt + lag], by a fine midpoint sum, of the
+        // rate linear from a to b over the step and held at b beyond it
+        let (a, b) = (0.7, 2.3);
+        for (dt, lag) in [
+            (0.01, 0.0),
+            (0.01, 0.005),
+            (0.01, 0.0099),
+            (0.01, 0.02),
+            (0.05, 0.005),
+        ] {
+            let r = |s: f64| if s < dt { a + (b - a) * s / dt } else { b };
+            let n = 100_000;
+            let want: f64 = (0..n)
+                .map(|i| r(lag + (i as f64 + 0.5) * dt / n as f64) * dt / n as f64)
+                .sum();
+            let q = segment_step(
+                &Vector3::new(a, 0.0, 0.0),
+                &Vector3::new(b, 0.0, 0.0),
+                dt,
+                lag,
+            );
+            let got = UnitQuaternion::from_quaternion(q).scaled_axis();
+            assert!(
+                (got.x - want).abs() < 1e-9,
+                "{dt} {lag}: {} against {want}",
+                got.x
+            );
+            assert!(got.y.abs() < 1e-15 && got.z.abs() < 1e-15);
+        }
+    }
+
+    #[test]
     fn the_lead_is_the_rotation_over_the_delay_to_rounding() {
         // the series of the reported attitude against the exponential, below
         // and above where it hands over (0.2 rad), about a tilted axis
