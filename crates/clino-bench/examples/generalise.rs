@@ -56,6 +56,11 @@
 //! 1.2 periods (BROAD's sensor, `clino eval --delay`): VQF, `dynamic` with
 //! its default `sensor_delay_periods` (0.5) and with the delay given.
 //!
+//! And the rest pairs' learner (`--only learner`): `dynamic` as given, with
+//! the accelerometer scale's prior halved, without accelerometer learning
+//! and without any learning from rest pairs, on the sensors it is for and on
+//! calibrated ones, where it can only fit the pairs' noise.
+//!
 //! `--export DIR` also writes every simulated recording but the slewing
 //! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
@@ -65,6 +70,7 @@
 //! smoother (which `vqf-rs` does not have), condition by condition.
 
 use clino::core::compensate::{LeverArm, MountOptions};
+use clino::core::filter::DynamicParams;
 use clino::core::{Attitude, AttitudeFilter, ImuSample, Vec3};
 use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
@@ -631,6 +637,84 @@ fn delay_table(seeds: u64, dynamic: &FilterSpec) {
     }
 }
 
+/// What the rest pairs' learner buys and costs: `dynamic` as given, with the
+/// accelerometer scale's prior halved (1.5 %: the MPU6050's ±3 % read as a
+/// two-sigma band), with the accelerometer's scale and bias not learnt, and
+/// with no learning from rest pairs at all; each against VQF (mean ratio,
+/// worst recording) on the sensors the learner is for (per-axis scale
+/// errors, cross-axis sensitivity, a gyro scale error, an accelerometer
+/// bias) and on calibrated ones, where all it can do is fit the pairs'
+/// noise (the slow arm, whose long segments carry the gyro bias error's
+/// drift; on a swaying base a single pair in two minutes).
+fn learner_table(seeds: u64, dynamic: &FilterSpec) {
+    let FilterSpec::Dynamic(base) = dynamic else {
+        return;
+    };
+    let with = |f: &dyn Fn(&mut DynamicParams)| {
+        let mut p = *base;
+        f(&mut p);
+        FilterSpec::Dynamic(p)
+    };
+    let variants = [
+        ("as given", *dynamic),
+        (
+            "acc scale 1.5 %",
+            with(&|p| p.accel_scale_sigma = base.accel_scale_sigma.min(0.015)),
+        ),
+        (
+            "no acc learning",
+            with(&|p| (p.accel_scale_sigma, p.accel_bias_sigma) = (0.0, 0.0)),
+        ),
+        (
+            "no learning",
+            with(&|p| {
+                (p.gyro_scale_sigma, p.accel_scale_sigma, p.accel_bias_sigma) = (0.0, 0.0, 0.0)
+            }),
+        ),
+    ];
+    println!(
+        "
+the rest pairs' learner: inclination RMSE ratio to VQF, mean (worst recording)"
+    );
+    print!("{:<28}{:>8}", "condition (seeds)", "vqf °");
+    for (name, _) in &variants {
+        print!("{name:>18}");
+    }
+    println!();
+    for (kind, sensor, rate) in [
+        (Kind::Hand, Sensor::Calibrated, 40.0),
+        (Kind::Hand, Sensor::ScaleMixed, 40.0),
+        (Kind::Hand, Sensor::GyroScale, 40.0),
+        (Kind::Hand, Sensor::CrossAxis, 40.0),
+        (Kind::SlowVib, Sensor::Calibrated, 100.0),
+        (Kind::SlowVib, Sensor::Bias, 100.0),
+        (Kind::SlowVib, Sensor::ScaleLow, 125.0),
+        (Kind::SlowBoom, Sensor::Calibrated, 125.0),
+    ] {
+        let c = Condition {
+            name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),
+            kind,
+            sensor,
+            rate,
+        };
+        let recs: Vec<Rec> = (1..=seeds).map(|seed| make(&c, seed)).collect();
+        let v: Vec<f64> = recs.iter().map(|r| rmse(r, &run_vqf(r))).collect();
+        let v_mean = v.iter().sum::<f64>() / seeds as f64;
+        print!("{:<28}{v_mean:>8.3}", format!("{} ({seeds})", c.name));
+        for (_, spec) in &variants {
+            let d: Vec<f64> = recs.iter().map(|r| rmse(r, &run_clino(r, spec))).collect();
+            let mean = d.iter().sum::<f64>() / seeds as f64;
+            let worst = d
+                .iter()
+                .zip(&v)
+                .map(|(d, v)| d / v)
+                .fold(f64::NAN, f64::max);
+            print!("{:>11.2} ({worst:.2})", mean / v_mean);
+        }
+        println!();
+    }
+}
+
 /// Samples lost on the way (a radio link's dropouts): the calibrated hand at
 /// 40 Hz, `dynamic` given the samples received (each step as long as the
 /// time since the last one, as the pipeline gives it), VQF (a fixed sample
@@ -1164,7 +1248,9 @@ fn main() -> clino::Result<()> {
         w.finish()
             .map_err(|e| clino::Error::new(clino::ErrorKind::Io, e.to_string()).in_file(d))?;
     }
-    print_rest_table(&rest_rows);
+    if !rest_rows.is_empty() {
+        print_rest_table(&rest_rows);
+    }
     if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
         slewing_estimates(seeds, &dynamic);
     }
@@ -1176,6 +1262,9 @@ fn main() -> clino::Result<()> {
     }
     if only.as_deref().is_none_or(|o| "delay".contains(o)) {
         delay_table(seeds, &dynamic);
+    }
+    if only.as_deref().is_none_or(|o| "learner".contains(o)) {
+        learner_table(seeds, &dynamic);
     }
     if all_ratio.iter().any(|r| !r.is_empty()) {
         print!("{:<40}", "largest mean ratio over the conditions");
