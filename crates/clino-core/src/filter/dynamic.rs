@@ -117,7 +117,10 @@
 //!   drifts (a board warming up: 0.08 °/s per °C, 3 °C a minute) was
 //!   followed only by the loop's slow bias pole (the slow arm on a vibrating
 //!   base at 125 Hz: 0.87 → 0.54× VQF's error while warming; calibrated,
-//!   0.76 → 0.71×, worst recording 1.14 → 0.95×; BENCHMARKS.md).
+//!   0.76 → 0.71×, worst recording 1.14 → 0.95×; BENCHMARKS.md). The
+//!   short-rest detector is the learner's: with `gyro_scale_sigma`,
+//!   `accel_scale_sigma` and `accel_bias_sigma` all 0 it does not run, and
+//!   only rests proper teach the bias.
 //! * **Rests remove a move's tilt error.** At rests, short rests, held
 //!   poses and turns without acceleration (the specific force turning only
 //!   as the gyro says, up to 0.32 rad/s) the tilt is pulled to the accelerometer at up to
@@ -1223,6 +1226,17 @@ impl ScaleLearner {
         l.u0 = u_now;
         l.f0 = f_now;
         l.active = true;
+    }
+}
+
+/// A rest's evidence of the gyro bias (a rest proper's still rate sample by
+/// sample, a short rest's mean once): the bias moves to the still `rate` by
+/// the share `w`, and the input sensitivities of the bias the loop learnt
+/// give up the same share (the rest replaces what it learnt).
+fn rest_bias_step(bias: &mut Vec3, sens: [&mut Option<InputSensitivity>; 2], rate: &Vec3, w: f64) {
+    *bias += (rate - *bias) * w;
+    for sn in sens.into_iter().flatten() {
+        sn.bias *= 1.0 - w;
     }
 }
 
@@ -2416,11 +2430,9 @@ impl AttitudeFilter for Dynamic {
                         let (g_mean, n) = l.quick_snap[1];
                         if n > 0.0 {
                             let w = n / (self.bias_info_s + n);
-                            self.bias += (g_mean - self.bias) * w;
+                            let sens = [&mut self.sens, &mut self.arm];
+                            rest_bias_step(&mut self.bias, sens, &g_mean, w);
                             self.bias_info_s = (self.bias_info_s + n).min(p.rest_bias_tau_s);
-                            for sn in [&mut self.sens, &mut self.arm].into_iter().flatten() {
-                                sn.bias *= 1.0 - w;
-                            }
                         }
                         l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
                         settle_motion_scale(&mut self.motion_scale, l.informed, l.quick_sm);
@@ -2744,11 +2756,13 @@ impl AttitudeFilter for Dynamic {
             // learns the bias in about its own duration), exponential with time
             // constant `rest_bias_tau_s` once that much rest has been seen
             self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
-            self.bias += (self.gyr_lp - self.bias) * (dt / self.bias_info_s);
-            let keep = 1.0 - dt / self.bias_info_s;
-            for sn in [&mut self.sens, &mut self.arm].into_iter().flatten() {
-                sn.bias *= keep;
-            }
+            let w = dt / self.bias_info_s;
+            rest_bias_step(
+                &mut self.bias,
+                [&mut self.sens, &mut self.arm],
+                &self.gyr_lp,
+                w,
+            );
         } else {
             // what was learnt at rest ages while moving (bias drifts with time and temperature)
             self.bias_info_s *= 1.0 - self.inv.k_forget;
@@ -4504,6 +4518,66 @@ mod tests {
                 got.x
             );
             assert!(got.y.abs() < 1e-15 && got.z.abs() < 1e-15);
+        }
+    }
+
+    /// A level sensor at 100 Hz: 5 s at rest reading the gyro bias `b1`, a
+    /// turn about the vertical at 1 rad/s for 3 s, 1.2 s still reading `b2`
+    /// (too short to be declared rest after the turn), then `end`'s rate
+    /// (added to `b2`) for 0.3 s and the turn again for 2 s. The bias after.
+    fn bias_after_short_rest(b1: Vec3, b2: Vec3, end: impl Fn(f64) -> Vec3) -> (Vec3, Dynamic) {
+        let mut f = Dynamic::default();
+        let (dt, g) = (0.01, Vec3::new(0.0, 0.0, G0));
+        let turn = Vec3::new(0.0, 0.0, 1.0);
+        let mut t = 0.0;
+        let mut run = |f: &mut Dynamic, secs: f64, w: &dyn Fn(f64) -> Vec3| {
+            let t0 = t;
+            while t < t0 + secs - 1e-9 {
+                f.update(w(t - t0), g, dt);
+                t += dt;
+            }
+        };
+        run(&mut f, 5.0, &|_| b1);
+        assert!(f.rested_once);
+        run(&mut f, 3.0, &|_| b1 + turn);
+        run(&mut f, 1.2, &|_| b2);
+        assert!(!f.rest, "the short rest was declared");
+        run(&mut f, 0.3, &|s| b2 + end(s));
+        run(&mut f, 2.0, &|_| b2 + turn);
+        (f.bias, f)
+    }
+
+    #[test]
+    fn a_short_rest_teaches_its_still_rate_without_the_motion_that_ends_it() {
+        let d = 1f64.to_radians();
+        let b1 = Vec3::new(0.3, -0.2, 0.1) * d;
+        let b2 = b1 + Vec3::new(0.1, 0.05, -0.08) * d;
+        let step = b2 - b1;
+        // the bias moves toward the still rate, along b2 − b1 only, by the
+        // share of a running mean against the rest evidence it had (the
+        // short rest's fraction of a second against nearly 3 s)
+        let share_and_off = |b: Vec3| {
+            let moved = b - b1;
+            let share = moved.dot(&step) / step.norm_squared();
+            (share, (moved - step * share).norm() / step.norm())
+        };
+        // the motion starts at once, or creeps about x up to 0.35 °/s over
+        // 0.25 s first (under the 0.5-°/s threshold, so still "rest" to the
+        // detector: had it counted, it would put the bias off the line by
+        // about a tenth of the step)
+        let (sudden, f) = bias_after_short_rest(b1, b2, |_| Vec3::new(0.0, 0.0, 1.0));
+        let (creeping, _) = bias_after_short_rest(b1, b2, |s| {
+            if s < 0.25 {
+                Vec3::new(0.35 * d * s / 0.25, 0.0, 0.0)
+            } else {
+                Vec3::new(0.0, 0.0, 1.0)
+            }
+        });
+        assert!(f.bias_info_s > 0.0);
+        for b in [sudden, creeping] {
+            let (share, off) = share_and_off(b);
+            assert!(share > 0.03 && share < 0.5, "share {share}");
+            assert!(off < 0.01, "{off} of the step off the line");
         }
     }
 
