@@ -72,6 +72,17 @@
 //!   and pulling the tilt to the accelerometer then would turn that
 //!   translation into tilt; a translation does not turn the gyro, so learning
 //!   the bias from it stays right.
+//! * **Quiet rests follow a drifting bias.** What the bias learnt at rest
+//!   ages while moving over `bias_memory_s` (60 s): a pose held in a hand
+//!   creeps on under the rest thresholds, and its rest's mean rate is creep
+//!   as well as bias. A rest whose specific force is quiet about its
+//!   filtered value (noise density under `QUIET_NOISE_DENSITY`, 0.6 mg/√Hz:
+//!   no tremor, no vibration — set down) is still, so its mean rate is the
+//!   bias, and what the bias held before it has aged as a warming bias does,
+//!   over `QUIET_MEMORY_S` (15 s) of the motion since the last rest (a board
+//!   warming 3 °C a minute, moved by hand at 40 Hz with rests of 3 s set
+//!   down: 0.72 → 0.48× VQF's error; held poses, vibrating bases and BROAD
+//!   unchanged; BENCHMARKS.md).
 //! * **Start.** The attitude starts from the first valid accelerometer sample.
 //!   Over `start_time_s` the loop bandwidth falls linearly from
 //!   `start_bandwidth_rad_s` to p, and a direct pull to the accelerometer of
@@ -213,7 +224,11 @@ pub struct DynamicParams {
     pub rest_bias_tau_s: f64,
     /// Memory of what was learnt at rest while moving, s: the weight of the
     /// rest estimate decays with this time constant, so the next rest
-    /// corrects drift faster. Default 60 s (MEMS bias drifts over minutes).
+    /// corrects drift faster. Default 60 s (MEMS bias drifts over minutes),
+    /// long enough that a held pose's creep, in the mean rate of a rest held
+    /// in the hand, moves the bias little; a quiet rest (set down, module
+    /// docs) sees it aged over `QUIET_MEMORY_S` (15 s) instead when that is
+    /// shorter.
     pub bias_memory_s: f64,
     /// Time constant of the low-pass of the rate magnitude |ω̄| that drives the
     /// bandwidth adaptation, s. Default 0.5 s.
@@ -494,6 +509,15 @@ pub struct Dynamic {
     aligned: bool,
     rest_ref: Vec3,
     bias_info_s: f64,
+    /// The stillness's specific-force noise about its filtered value:
+    /// Σ|f − `acc_f`|²/3 and the number of samples, after
+    /// [`QUIET_SETTLE_S`] ([`QUIET_NOISE_DENSITY`]).
+    quiet_sum: f64,
+    quiet_n: f64,
+    /// Time moving since the last rest, s, and whether this rest has been
+    /// judged quiet or not yet.
+    motion_time: f64,
+    quiet_checked: bool,
     time: f64,
     initialised: bool,
     /// The attitude was taken from the accelerometer (not given): the start
@@ -673,6 +697,26 @@ const QUICK_MIN_S: f64 = 0.5;
 /// 0.007–0.014 °/s off the gyro's bias with its last 0.3 s, the arm already
 /// starting (0.1 °/s), in it.
 const QUICK_GUARD_S: f64 = 0.25;
+
+/// A stillness is judged for quiet after this long, s (the specific
+/// force's two 0.1-s stages have let the motion's last acceleration go).
+const QUIET_SETTLE_S: f64 = 0.5;
+/// The specific force's noise density under which a rest is quiet,
+/// m/s²/√Hz: 0.6 mg/√Hz, above the noisiest MEMS accelerometers' (an
+/// MPU6050's 0.4 mg/√Hz) and far under a hand's tremor (≈ 1 mg/√Hz in
+/// `generalise`'s held poses) or an engine's vibration (≈ 15 mg/√Hz).
+const QUIET_NOISE_DENSITY: f64 = 0.6e-3 * G0;
+/// The memory of a bias learnt at rest, seen from a quiet rest, s: a
+/// quiet rest's mean rate is bias (no creep, no vibration), so the rests
+/// before it need count only as long as a MEMS gyro's bias holds still to
+/// within a rest's own doubt (0.005 °/s/√Hz over 3 s: 0.003 °/s); at
+/// power-on an MPU6050 warms a few °C a minute (0.08 °/s per °C), which
+/// moves its bias that far in a second or two, and at a steady temperature
+/// its bias instability (0.005 °/s) takes minutes. 15 s: a board warming
+/// 3 °C a minute, moved by hand (rests of 3 s, 40 Hz) 0.72 → 0.48× VQF's
+/// error (7.5 s: 0.38×); every other grid row and BROAD within 0.01 at
+/// either (`generalise`, BENCHMARKS.md).
+const QUIET_MEMORY_S: f64 = 15.0;
 
 /// Largest rate of a held pose, rad/s (2°/s). A hand holding an instrument
 /// in the air, rather than setting it down, never stops: the pose creeps on
@@ -1804,6 +1848,10 @@ impl Dynamic {
             aligned: false,
             rest_ref: Vec3::zeros(),
             bias_info_s: 0.0,
+            quiet_sum: 0.0,
+            quiet_n: 0.0,
+            motion_time: 0.0,
+            quiet_checked: false,
             time: 0.0,
             initialised: false,
             from_accel: false,
@@ -2304,6 +2352,8 @@ impl AttitudeFilter for Dynamic {
         // the rest never ends, and the whole motion becomes gyro bias.
         if self.still_time == 0.0 {
             self.rest_ref = self.bias;
+            self.quiet_sum = 0.0;
+            self.quiet_n = 0.0;
             self.acc_mean = acc_f;
             if arm_tracked {
                 self.arm_input_mean = self.arm_input_f;
@@ -2313,6 +2363,10 @@ impl AttitudeFilter for Dynamic {
             && (acc_f - self.acc_mean).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
             && (gyr_f - self.rest_ref).norm_squared() < abs_thr * abs_thr;
         if still {
+            if self.still_time >= QUIET_SETTLE_S {
+                self.quiet_sum += (acc - acc_f).norm_squared() / 3.0;
+                self.quiet_n += 1.0;
+            }
             let k = self.inv.k_window.max(dt / (self.still_time + dt));
             self.acc_mean += (acc_f - self.acc_mean) * k;
             if arm_tracked {
@@ -2752,6 +2806,20 @@ impl AttitudeFilter for Dynamic {
             }
         }
         if self.rest {
+            // a quiet rest: what the bias held ages as a drifting bias does
+            // (QUIET_MEMORY_S) over the motion since the last rest, not as
+            // slowly as `bias_memory_s` lets it for rests that may not be still
+            if !self.quiet_checked {
+                self.quiet_checked = true;
+                let nd2 = self.quiet_sum / self.quiet_n * 2.0 * dt;
+                if self.quiet_n > 0.0 && nd2 < QUIET_NOISE_DENSITY * QUIET_NOISE_DENSITY {
+                    let extra = 1.0 / QUIET_MEMORY_S - self.inv.bias_memory;
+                    if extra > 0.0 {
+                        self.bias_info_s *= exp(-self.motion_time * extra);
+                    }
+                }
+                self.motion_time = 0.0;
+            }
             // running mean of the still gyro while little is known (a first rest
             // learns the bias in about its own duration), exponential with time
             // constant `rest_bias_tau_s` once that much rest has been seen
@@ -2766,6 +2834,8 @@ impl AttitudeFilter for Dynamic {
         } else {
             // what was learnt at rest ages while moving (bias drifts with time and temperature)
             self.bias_info_s *= 1.0 - self.inv.k_forget;
+            self.motion_time += dt;
+            self.quiet_checked = false;
         }
         let m = p.bias_max_rad_s;
         self.bias = self.bias.map(|b| b.clamp(-m, m));
@@ -4545,6 +4615,44 @@ mod tests {
         run(&mut f, 0.3, &|s| b2 + end(s));
         run(&mut f, 2.0, &|_| b2 + turn);
         (f.bias, f)
+    }
+
+    #[test]
+    fn a_quiet_rest_replaces_a_stale_bias_faster_than_a_trembling_one() {
+        // A level sensor rests at still rate b1, turns about the vertical for
+        // 20 s, and rests at b2 (its gyro warmed). Set down, the second rest
+        // is quiet, and the rest evidence the bias holds has aged over the
+        // motion as a warming bias does (QUIET_MEMORY_S): the rest moves it
+        // 0.61 of the way to b2. Held in a hand that trembles at 9 Hz
+        // (0.1 m/s², ≈ 0.8 mg/√Hz about the filtered value) it may be a
+        // creeping pose, and the evidence ages over `bias_memory_s`: 0.33 of
+        // the way (and so did the quiet rest before, 0.33).
+        let d = 1f64.to_radians();
+        let b1 = Vec3::new(0.3, -0.2, 0.1) * d;
+        let b2 = b1 + Vec3::new(0.2, 0.1, -0.1) * d;
+        let share = |tremor: f64| {
+            let mut f = Dynamic::default();
+            let dt = 0.01;
+            let mut t = 0.0;
+            let mut run = |f: &mut Dynamic, secs: f64, w: Vec3| {
+                let t0 = t;
+                while t < t0 + secs - 1e-9 {
+                    let ph = 2.0 * core::f64::consts::PI * 9.0 * t;
+                    let a = Vec3::new(tremor * sin(ph), tremor * cos(ph), G0);
+                    f.update(w, a, dt);
+                    t += dt;
+                }
+            };
+            run(&mut f, 5.0, b1);
+            assert!(f.rested_once);
+            run(&mut f, 20.0, b1 + Vec3::new(0.0, 0.0, 1.0));
+            assert!(!f.rest);
+            run(&mut f, 4.0, b2);
+            assert!(f.rest);
+            (f.bias - b1).dot(&(b2 - b1)) / (b2 - b1).norm_squared()
+        };
+        let (quiet, trembling) = (share(0.0), share(0.1));
+        assert!(quiet > 0.5 && trembling < 0.4, "{quiet} {trembling}");
     }
 
     #[test]
