@@ -1156,14 +1156,14 @@ mod tests {
 
     #[test]
     fn a_warming_gyro_set_down_between_moves_is_followed_at_each_rest() {
-        // Rests of 3 s set down on a table are quiet (the accelerometer's
-        // noise about its filtered value under 0.6 mg/√Hz): no tremor, no
-        // vibration, no creep, so their still rate is the bias and what the
+        // Rests of 3 s set down on a table are quiet (no tremor in the rate,
+        // no vibration in the specific force): no creep, so their still rate
+        // is the bias and what the
         // bias held before ages as a warming bias does (QUIET_MEMORY_S), not
         // over the minute a held pose's creep needs. Aged over the minute, the
         // bias lagged the warm-up rest after rest: 0.62° and 0.64° over the
         // second minute, the bias 0.34 and 0.36 °/s off at the end; now 0.36°
-        // and 0.43° (0.13 and 0.17 °/s).
+        // and 0.38° (0.13 and 0.14 °/s).
         let r: Vec<(f64, f64)> = [1, 2].map(warming_hand).to_vec();
         let mean = (r[0].0 + r[1].0) / 2.0;
         assert!(mean < 0.5, "{r:?} (deg, deg/s)");
