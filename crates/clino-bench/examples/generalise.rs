@@ -1107,6 +1107,8 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::CrossAxis, 100.0),
         (Kind::SlowVib, Sensor::CrossAxis, 125.0),
         (Kind::Hand, Sensor::WarmUp, 40.0),
+        (Kind::ShortRests, Sensor::WarmUp, 40.0),
+        (Kind::Held, Sensor::WarmUp, 40.0),
         (Kind::SlowVib, Sensor::WarmUp, 125.0),
         (Kind::SlowVib, Sensor::ScaleMixed, 125.0),
         (Kind::Slow, Sensor::ScaleLow, 125.0),
