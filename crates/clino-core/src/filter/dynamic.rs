@@ -80,8 +80,8 @@
 //!   specific force within 1 mg/√Hz of its filtered value
 //!   (`QUIET_NOISE_DENSITY`: no vibration) — is set down, so its mean rate
 //!   is the bias, and what the bias held before it has aged as a warming
-//!   bias does, over `QUIET_MEMORY_S` (15 s) of the motion since the last
-//!   rest (a board warming 3 °C a minute, moved by hand at 40 Hz with rests
+//!   bias does, over `QUIET_MEMORY_S` (15 s) of the time since the last
+//!   rest ended (a board warming 3 °C a minute, moved by hand at 40 Hz with rests
 //!   of 3 s set down: 0.72 → 0.46× VQF's error; held poses, vibrating bases
 //!   and BROAD unchanged; BENCHMARKS.md).
 //! * **Start.** The attitude starts from the first valid accelerometer sample.
@@ -520,8 +520,8 @@ pub struct Dynamic {
     /// `quiet_sum`): the rate's fluctuation in the band of a hand's tremor.
     gyr_band: Vec3,
     quiet_gsum: f64,
-    /// Time moving since the last rest, s, and whether this rest has been
-    /// judged quiet or not yet.
+    /// Time since the last rest ended, s (motion and stillness not yet
+    /// declared rest), and whether this rest has been judged quiet yet.
     motion_time: f64,
     quiet_checked: bool,
     time: f64,
@@ -2832,7 +2832,7 @@ impl AttitudeFilter for Dynamic {
         }
         if self.rest {
             // a quiet rest: what the bias held ages as a drifting bias does
-            // (QUIET_MEMORY_S) over the motion since the last rest, not as
+            // (QUIET_MEMORY_S) over the time since the last rest, not as
             // slowly as `bias_memory_s` lets it for rests that may not be still
             if !self.quiet_checked {
                 self.quiet_checked = true;
