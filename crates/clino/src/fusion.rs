@@ -1081,29 +1081,28 @@ mod tests {
         assert!(b.norm() < 3.0 && p < 0.5, "{b:?} mg, probability {p}");
     }
 
-    /// The slow robot arm (moves of 12 s under 0.36 rad/s, rests of 2 s)
-    /// on a base vibrating at 30 Hz, its gyro warming up by 3 °C a minute
-    /// (the MPU6050's 0.08 °/s per °C: 0.48 °/s over the two minutes); the
-    /// second minute's inclination RMSE and the gyro-bias error at the end.
-    fn warming_slow_arm(seed: u64) -> (f64, f64) {
-        use crate::sim::Motion;
-        use crate::sim::hand::{HandMotion, HandParams};
-        use crate::sim::motion::{Sum, vibration};
+    /// A motion sampled at `rate` Hz by the slewing machine's sensor behind
+    /// an anti-alias low-pass at `bandwidth` Hz, its gyro warming up by 3 °C
+    /// a minute (the MPU6050's 0.08 °/s per °C: 0.48 °/s over the two
+    /// minutes); the second minute's inclination RMSE and the gyro-bias
+    /// error at the end, degrees and °/s.
+    fn warming(
+        motion: &dyn crate::sim::Motion,
+        rate: f64,
+        bandwidth: f64,
+        seed: u64,
+    ) -> (f64, f64) {
         use clino_core::AttitudeFilter;
-        let arm = Sum {
-            a: HandMotion::new(HandParams::slow(), seed),
-            b: vibration(30.0, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
-        };
-        let mut model = crate::sim::slewing::sensor().with_bandwidth(50.0);
+        let mut model = crate::sim::slewing::sensor().with_bandwidth(bandwidth);
         model.temperature.rate_c_per_s = 0.05;
         let mut f = clino_core::pipeline::Pipeline::new(FilterSpec::default());
         let mut rms = crate::eval::Rms::default();
-        for x in model.simulate(&arm, 125.0, 120.0, seed) {
+        for x in model.simulate(motion, rate, 120.0, seed) {
             let q = f.update(&x).attitude;
             if let (Some(q), true) = (q, x.t_s >= 60.0) {
                 rms.push(crate::eval::inclination_error(
                     &q,
-                    &arm.truth(x.t_s).attitude,
+                    &motion.truth(x.t_s).attitude,
                 ));
             }
         }
@@ -1111,6 +1110,18 @@ mod tests {
         let bias = model.gyro.bias + model.gyro.bias_temp_coeff * warm;
         let err = (f.filter().gyro_bias() - bias).norm().to_degrees();
         (rms.value().to_degrees(), err)
+    }
+
+    /// [`warming`]: the slow robot arm (moves of 12 s under 0.36 rad/s,
+    /// rests of 2 s) on a base vibrating at 30 Hz, at 125 Hz.
+    fn warming_slow_arm(seed: u64) -> (f64, f64) {
+        use crate::sim::hand::{HandMotion, HandParams};
+        use crate::sim::motion::{Sum, vibration};
+        let arm = Sum {
+            a: HandMotion::new(HandParams::slow(), seed),
+            b: vibration(30.0, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
+        };
+        warming(&arm, 125.0, 50.0, seed)
     }
 
     #[test]
@@ -1126,41 +1137,24 @@ mod tests {
         assert!(mean < 0.5, "{tilt:?} deg");
     }
 
-    /// The hand of `generalise` (moves of 8 s, rests of 3 s set down) at
-    /// 40 Hz, its gyro warming up by 3 °C a minute as in
-    /// [`warming_slow_arm`]; the second minute's inclination RMSE and the
-    /// gyro-bias error at the end.
+    /// [`warming`]: the hand of `generalise` (moves of 8 s, rests of 3 s set
+    /// down) at 40 Hz.
     fn warming_hand(seed: u64) -> (f64, f64) {
-        use crate::sim::Motion;
         use crate::sim::hand::{HandMotion, HandParams};
-        use clino_core::AttitudeFilter;
-        let hand = HandMotion::new(HandParams::by_hand(), seed);
-        let mut model = crate::sim::slewing::sensor().with_bandwidth(16.0);
-        model.temperature.rate_c_per_s = 0.05;
-        let mut f = clino_core::pipeline::Pipeline::new(FilterSpec::default());
-        let mut rms = crate::eval::Rms::default();
-        for x in model.simulate(&hand, 40.0, 120.0, seed) {
-            let q = f.update(&x).attitude;
-            if let (Some(q), true) = (q, x.t_s >= 60.0) {
-                rms.push(crate::eval::inclination_error(
-                    &q,
-                    &hand.truth(x.t_s).attitude,
-                ));
-            }
-        }
-        let warm = model.temperature.at(120.0) - model.temperature.reference_c;
-        let bias = model.gyro.bias + model.gyro.bias_temp_coeff * warm;
-        let err = (f.filter().gyro_bias() - bias).norm().to_degrees();
-        (rms.value().to_degrees(), err)
+        warming(
+            &HandMotion::new(HandParams::by_hand(), seed),
+            40.0,
+            16.0,
+            seed,
+        )
     }
 
     #[test]
     fn a_warming_gyro_set_down_between_moves_is_followed_at_each_rest() {
         // Rests of 3 s set down on a table are quiet (no tremor in the rate,
         // no vibration in the specific force): no creep, so their still rate
-        // is the bias and what the
-        // bias held before ages as a warming bias does (QUIET_MEMORY_S), not
-        // over the minute a held pose's creep needs. Aged over the minute, the
+        // is the bias and what the bias held before ages as a warming bias
+        // does (QUIET_MEMORY_S), not over the minute a held pose's creep needs. Aged over the minute, the
         // bias lagged the warm-up rest after rest: 0.62° and 0.64° over the
         // second minute, the bias 0.34 and 0.36 °/s off at the end; now 0.36°
         // and 0.38° (0.13 and 0.14 °/s).

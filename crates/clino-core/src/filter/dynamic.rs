@@ -81,9 +81,9 @@
 //!   (`QUIET_NOISE_DENSITY`: no vibration) — is set down, so its mean rate
 //!   is the bias, and what the bias held before it has aged as a warming
 //!   bias does, over `QUIET_MEMORY_S` (15 s) of the time since the last
-//!   rest ended (a board warming 3 °C a minute, moved by hand at 40 Hz with rests
-//!   of 3 s set down: 0.72 → 0.46× VQF's error; held poses, vibrating bases
-//!   and BROAD unchanged; BENCHMARKS.md).
+//!   rest ended (a board warming 3 °C a minute, moved by hand at 40 Hz with
+//!   rests of 3 s set down: 0.72 → 0.46× VQF's error; held poses,
+//!   vibrating bases and BROAD unchanged; BENCHMARKS.md).
 //! * **Start.** The attitude starts from the first valid accelerometer sample.
 //!   Over `start_time_s` the loop bandwidth falls linearly from
 //!   `start_bandwidth_rad_s` to p, and a direct pull to the accelerometer of
@@ -1886,6 +1886,21 @@ impl Dynamic {
         }
     }
 
+    /// The stillness's noise so far (after [`QUIET_SETTLE_S`]), `None`
+    /// before it has a sample: the specific force's noise density about its
+    /// filtered value, m/s²/√Hz (the variance per axis σ² of white noise
+    /// sampled every `dt` is its density squared over the Nyquist band
+    /// 1/(2·dt)), and the rate's RMS per axis in [`QUIET_BAND_HZ`] above the
+    /// vibration low-pass, rad/s.
+    fn stillness_noise(&self, dt: f64) -> Option<(f64, f64)> {
+        (self.quiet_n > 0.0).then(|| {
+            (
+                sqrt(self.quiet_sum / self.quiet_n * 2.0 * dt),
+                sqrt(self.quiet_gsum / self.quiet_n),
+            )
+        })
+    }
+
     /// Track the sensitivity of the state to a constant offset of the
     /// accelerometer input, so that [`Dynamic::shift_accel_input`] can move
     /// the state to where a different accelerometer bias would have put it.
@@ -2836,11 +2851,9 @@ impl AttitudeFilter for Dynamic {
             // slowly as `bias_memory_s` lets it for rests that may not be still
             if !self.quiet_checked {
                 self.quiet_checked = true;
-                let nd2 = self.quiet_sum / self.quiet_n * 2.0 * dt;
-                let g2 = self.quiet_gsum / self.quiet_n;
-                if self.quiet_n > 0.0
-                    && nd2 < QUIET_NOISE_DENSITY * QUIET_NOISE_DENSITY
-                    && g2 < QUIET_TREMOR_RAD_S * QUIET_TREMOR_RAD_S
+                if let Some((nd, band)) = self.stillness_noise(dt)
+                    && nd < QUIET_NOISE_DENSITY
+                    && band < QUIET_TREMOR_RAD_S
                 {
                     let extra = 1.0 / QUIET_MEMORY_S - self.inv.bias_memory;
                     if extra > 0.0 {
@@ -4644,6 +4657,65 @@ mod tests {
         run(&mut f, 0.3, &|s| b2 + end(s));
         run(&mut f, 2.0, &|_| b2 + turn);
         (f.bias, f)
+    }
+
+    #[test]
+    fn the_stillness_noise_reads_a_white_density_and_a_tremor_s_band_rms() {
+        // white specific-force noise of a known density, at two rates: the
+        // density read back (the per-axis variance over the Nyquist band)
+        let density = 0.5e-3 * G0;
+        for fs in [100.0, 1000.0] {
+            let dt = 1.0 / fs;
+            let sigma = density * sqrt(0.5 * fs);
+            let mut f = Dynamic::default();
+            let mut seed: u64 = 0x2545_f491_4f6c_dd1d;
+            let mut uniform = || {
+                seed = seed
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+            };
+            let mut gauss = || {
+                let (u, v) = (uniform(), uniform());
+                sqrt(-2.0 * ln(u)) * cos(2.0 * core::f64::consts::PI * v)
+            };
+            for _ in 0..(4.0 * fs) as usize {
+                let a = Vec3::new(gauss(), gauss(), gauss()) * sigma + Vec3::new(0.0, 0.0, G0);
+                f.update(Vec3::zeros(), a, dt);
+            }
+            assert!(f.still_time > 3.9, "{fs} Hz: still {}", f.still_time);
+            let (nd, _) = f.stillness_noise(dt).unwrap();
+            assert!(
+                (nd / density - 1.0).abs() < 0.05,
+                "{fs} Hz: {nd} against {density}"
+            );
+        }
+        // a 9-Hz tremor of 1°/s about x at 1 kHz: the band's RMS per axis,
+        // against the two one-pole low-passes' discrete responses at 9 Hz,
+        // |H₂₀ − H_vib|·A/√2 on one axis of three
+        let (fs, fq, amp) = (1000.0, 9.0, 1f64.to_radians());
+        let dt = 1.0 / fs;
+        let mut f = Dynamic::default();
+        for i in 0..(4.0 * fs) as usize {
+            let w = Vec3::new(
+                amp * sin(2.0 * core::f64::consts::PI * fq * i as f64 * dt),
+                0.0,
+                0.0,
+            );
+            f.update(w, Vec3::new(0.0, 0.0, G0), dt);
+        }
+        let (_, band) = f.stillness_noise(dt).unwrap();
+        // H(ω) = k/(1 − (1 − k)e^(−jωdt)) as (re, im)
+        let pole = |k: f64| {
+            let x = 2.0 * core::f64::consts::PI * fq * dt;
+            let (re, im) = (1.0 - (1.0 - k) * cos(x), (1.0 - k) * sin(x));
+            let d = re * re + im * im;
+            (k * re / d, -k * im / d)
+        };
+        let (h20, hv) = (pole(f.inv.k_band), pole(f.inv.k_vib));
+        let gain = sqrt((h20.0 - hv.0) * (h20.0 - hv.0) + (h20.1 - hv.1) * (h20.1 - hv.1));
+        let want = amp * gain / sqrt(2.0) / sqrt(3.0);
+        assert!((band / want - 1.0).abs() < 0.01, "{band} against {want}");
     }
 
     #[test]
