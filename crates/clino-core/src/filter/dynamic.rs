@@ -689,7 +689,14 @@ const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 /// (0.02°/s, 0.02 m/s²), where one pole (10 times) left 0.16 m/s² and no
 /// short rest was seen; and they settle in 0.25 s. Vibration that they do
 /// not remove (under 10 Hz at 25-Hz sampling) keeps the thresholds from
-/// holding: no short rest, and the learner waits for a rest proper.
+/// holding: no short rest, and the learner waits for a rest proper. A
+/// structure's sway (1.5–5 Hz: at 3 Hz half of 1.5 m/s² passes) is taken
+/// out before them by the rest detector's notch ([`Sway`]): they low-pass
+/// the notched rate and specific force, so the slow arm's 2-s rests on a
+/// swaying boom are short rests as on a still base. (On the raw signals no
+/// short rest was seen there, the 2-s rests end before a rest proper is
+/// declared, and a warming gyro went untaught: the slow arm at 125 Hz, gyro
+/// ±2 % 1.15× VQF, warming 1.10×; now 0.90× and 0.55×, BENCHMARKS.md.)
 const QUICK_TAU_S: f64 = 0.05;
 /// The part of a short rest left out of its mean, s: the cascade's step
 /// response is within 5 % after 4.74·QUICK_TAU_S, the transient of the
@@ -1421,13 +1428,26 @@ const SWAY_SHARE_OFF: f64 = 0.4;
 /// the rest detector must not take for motion. It runs this many periods of
 /// the sway before its output is used.
 const SWAY_SETTLE_PERIODS: f64 = 1.0;
-/// Largest p₀·p₂/p₁² of a sway (1 for a sine; [`Sway`]).
-const SWAY_NARROW: f64 = 6.0;
+/// Largest p₀·p₂/p₁² of a sway (1 for a sine; [`Sway`]). At the notch's onset
+/// a boom's mode under the slow arm reads 0.9–4.7 (`generalise`, 1.5–5 Hz;
+/// median 1.3); what else passes the amplitude test mostly reads more: a
+/// held pose 2.3–5.2 (median 4.3), a hand near a stop 0.9–5.3 (median 2.0),
+/// an engine's 8.75 Hz at 25-Hz sampling 5.1–5.8. At 6 all of them were
+/// notches; at 3 the engine's and about half the held poses' are not (a
+/// held hand's notch kept its pairs out for the rest of an offline pass).
+const SWAY_NARROW: f64 = 3.0;
 /// The band of sway frequencies the notch is set in, Hz: a boom's or a
-/// mast's first mode; above it the vibration low-pass suffices.
+/// mast's first mode; above it the vibration low-pass suffices, below it
+/// is the carrying motion's own band. A frequency measured outside it is no
+/// sway (it was set at the band's edge: a hand moving at 0.8 Hz got a notch
+/// at 1 Hz).
 const SWAY_HZ: (f64, f64) = (1.0, 8.0);
 /// The notch is retuned when the measured frequency moves by this share.
-const SWAY_RETUNE: f64 = 0.05;
+/// The notch takes a sway measured ε off down to ≈ 2·ε·[`SWAY_Q`] of itself
+/// (1.4 % at 1 %, 7 % at 5 %): what it leaves passes into the short rests'
+/// means; the measure converges from below over the first seconds (a
+/// 4.81-Hz sway read 4.27, 4.49, then 4.71 Hz).
+const SWAY_RETUNE: f64 = 0.01;
 /// The notch's quality: broad (−3 dB from about 0.5 to 2 times its centre),
 /// so a frequency measured 20 % off is still taken down fourfold.
 const SWAY_Q: f64 = 0.7;
@@ -1601,10 +1621,8 @@ impl Sway {
         let f_hi = SWAY_HZ.1.min(0.4 / dt);
         let swaying = self.p0 > share * share * thr_a * thr_a
             && self.p0 * self.p2 < SWAY_NARROW * self.p1 * self.p1
-            && f.is_finite()
-            && f_hi >= SWAY_HZ.0;
+            && (SWAY_HZ.0..=f_hi).contains(&f);
         if swaying {
-            let f = f.clamp(SWAY_HZ.0, f_hi);
             if self.f0 <= 0.0
                 || (f - self.f0).abs() > SWAY_RETUNE * self.f0
                 || (dt - self.dt).abs() > SWAY_RETUNE * dt
@@ -2443,8 +2461,10 @@ impl AttitudeFilter for Dynamic {
         {
             let l = &mut self.gsl;
             let k_quick = self.inv.k_quick.max(mean_k);
-            l.qg1 += (gyr - l.qg1) * k_quick;
-            l.qa1 += (acc - l.qa1) * k_quick;
+            // (on the rate and specific force with a sway notched out, as
+            // the rest detector sees them: QUICK_TAU_S)
+            l.qg1 += (gyr_n - l.qg1) * k_quick;
+            l.qa1 += (acc_n - l.qa1) * k_quick;
             l.qg += (l.qg1 - l.qg) * k_quick;
             l.qa += (l.qa1 - l.qa) * k_quick;
             if self.rest {
@@ -2528,7 +2548,16 @@ impl AttitudeFilter for Dynamic {
                             rest_bias_step(&mut self.bias, sens, &g_mean, w);
                             self.bias_info_s = (self.bias_info_s + n).min(p.rest_bias_tau_s);
                         }
-                        l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
+                        // no pair while a sway is notched: the short rest's
+                        // mean holds what the notch leaves of it, the
+                        // segment's ends the sway's angle (up to 0.2° at
+                        // 1.5 Hz), and the learner's one noise level for all
+                        // pairs cannot weigh such pairs down (with them the
+                        // calibrated slow arm on a swaying boom went 0.86 →
+                        // 0.96× VQF, offline 0.049° → 0.066°: BENCHMARKS.md)
+                        if !self.sway.on {
+                            l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
+                        }
                         settle_motion_scale(&mut self.motion_scale, l.informed, l.quick_sm);
                         l.sm_w -= l.quick_sm.0;
                         l.sm_a -= l.quick_sm.1;
@@ -2568,7 +2597,9 @@ impl AttitudeFilter for Dynamic {
                     && !self.rest
                     && self.rested_once
                     && l.quick_time == 0.0
+                    && !self.sway.on
                 {
+                    // (and not while a sway is notched: as at a short rest)
                     let (seg, j, seg_time) = (l.seg, l.j, l.seg_time);
                     let next = (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0);
                     let f_now = l.qa;
