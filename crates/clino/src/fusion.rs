@@ -1158,7 +1158,7 @@ mod tests {
         // declared, and only the loop's slow bias pole followed the warm-up:
         // 0.75° and 1.08° over the second minute (bias 0.25 and 0.57 °/s off
         // at the end). With the short rests judged on the notched rate and
-        // specific force (the rest detector's input): 0.39° and 0.43° (0.30
+        // specific force (the rest detector's input): 0.42° and 0.43° (0.30
         // and 0.27 °/s).
         let r: Vec<(f64, f64)> = [(1, 2.4), (2, 3.6)]
             .map(|(seed, hz)| warming_swaying_arm(seed, hz))

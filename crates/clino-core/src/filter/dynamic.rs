@@ -696,7 +696,7 @@ const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 /// swaying boom are short rests as on a still base. (On the raw signals no
 /// short rest was seen there, the 2-s rests end before a rest proper is
 /// declared, and a warming gyro went untaught: the slow arm at 125 Hz, gyro
-/// ±2 % 1.15× VQF, warming 1.10×; now 0.90× and 0.55×, BENCHMARKS.md.)
+/// ±2 % 1.15× VQF, warming 1.10×; now 0.95× and 0.51×, BENCHMARKS.md.)
 const QUICK_TAU_S: f64 = 0.05;
 /// The part of a short rest left out of its mean, s: the cascade's step
 /// response is within 5 % after 4.74·QUICK_TAU_S, the transient of the
@@ -2469,13 +2469,21 @@ impl AttitudeFilter for Dynamic {
             l.qa += (l.qa1 - l.qa) * k_quick;
             if self.rest {
                 // the first sample of a rest after a motion: one observation;
-                // then every rest sample restarts the segment
+                // then every rest sample restarts the segment. No pair while
+                // a sway is notched, at a rest, a short rest or a held pose:
+                // the segment's ends hold the sway's angle at that instant
+                // (up to 0.2° at 1.5 Hz), a short rest's mean what the notch
+                // leaves of it, and the learner's one noise level for all
+                // pairs cannot weigh such pairs down. The calibrated slow arm
+                // on a swaying boom: 0.96× VQF (worst 1.27), offline 0.066°
+                // with every pair; 0.86× (1.34), 0.049° with the rests' only;
+                // 0.78× (1.08), 0.044° with none (BENCHMARKS.md)
                 let (seg, j, seg_time) = (l.seg, l.j, l.seg_time);
                 let next = (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0);
                 l.observe(
                     p,
                     bias_sigma,
-                    !l.was_rest,
+                    !l.was_rest && !self.sway.on,
                     seg,
                     j,
                     seg_time,
@@ -2548,13 +2556,7 @@ impl AttitudeFilter for Dynamic {
                             rest_bias_step(&mut self.bias, sens, &g_mean, w);
                             self.bias_info_s = (self.bias_info_s + n).min(p.rest_bias_tau_s);
                         }
-                        // no pair while a sway is notched: the short rest's
-                        // mean holds what the notch leaves of it, the
-                        // segment's ends the sway's angle (up to 0.2° at
-                        // 1.5 Hz), and the learner's one noise level for all
-                        // pairs cannot weigh such pairs down (with them the
-                        // calibrated slow arm on a swaying boom went 0.86 →
-                        // 0.96× VQF, offline 0.049° → 0.066°: BENCHMARKS.md)
+                        // (no pair while a sway is notched: as at a rest)
                         if !self.sway.on {
                             l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
                         }
@@ -2599,7 +2601,7 @@ impl AttitudeFilter for Dynamic {
                     && l.quick_time == 0.0
                     && !self.sway.on
                 {
-                    // (and not while a sway is notched: as at a short rest)
+                    // (no pair while a sway is notched: as at a rest)
                     let (seg, j, seg_time) = (l.seg, l.j, l.seg_time);
                     let next = (Quaternion::identity(), nalgebra::Matrix3::zeros(), 0.0);
                     let f_now = l.qa;
