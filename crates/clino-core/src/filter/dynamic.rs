@@ -148,7 +148,9 @@
 //!   frequency is measured and a notch there takes it out of what the rest
 //!   detector sees, so the swaying base is still a rest and its bias is
 //!   learnt (a notch adds no lag to the slow motion the detector must still
-//!   see; `Sway`).
+//!   see; `Sway`). The learner's short rests are judged on the same notched
+//!   signals; while a sway is notched no rest ends a pair (its ends hold
+//!   the sway's angle).
 //!
 //! * **Lost samples.** A step longer than 1.5 sample periods bridges a gap
 //!   (a radio link's dropouts, rows rejected as non-finite): the rate is
@@ -1439,8 +1441,8 @@ const SWAY_NARROW: f64 = 3.0;
 /// The band of sway frequencies the notch is set in, Hz: a boom's or a
 /// mast's first mode; above it the vibration low-pass suffices, below it
 /// is the carrying motion's own band. A frequency measured outside it is no
-/// sway (it was set at the band's edge: a hand moving at 0.8 Hz got a notch
-/// at 1 Hz).
+/// sway (it was set at the band's edge: a base translating at 0.6 Hz got a
+/// notch at 1 Hz, `a_sway_below_the_band_gets_no_notch`).
 const SWAY_HZ: (f64, f64) = (1.0, 8.0);
 /// The notch is retuned when the measured frequency moves by this share.
 /// The notch takes a sway measured ε off down to ≈ 2·ε·[`SWAY_Q`] of itself
