@@ -154,14 +154,14 @@ pub fn show_fuse_progress(bar: &indicatif::ProgressBar, p: clino::fusion::FusePr
             bar.tick();
         }
         FuseProgress::Smooth(stage, k, n) => {
-            if bar.length() != Some(7 * n as u64) {
+            if bar.length() != Some(clino::smooth::Stage::COUNT * n as u64) {
                 bar.set_style(
                     indicatif::ProgressStyle::with_template(
                         "{msg} [{bar:40}] {percent}% ({eta} left)",
                     )
                     .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
                 );
-                bar.set_length(7 * n as u64);
+                bar.set_length(clino::smooth::Stage::COUNT * n as u64);
             }
             bar.set_message(format!("offline smoothing ({stage:?})"));
             bar.set_position(stage.index() * n as u64 + k as u64);
