@@ -903,18 +903,19 @@ mod filter_tests {
     #[test]
     fn the_gyro_model_carries_the_learnt_gyro_scale() {
         // Gyro (+2, −1.5, +1) % scale errors: a gyro model without the scale
-        // the passes learnt would undo the corrections that removed them
-        // (measured on the grid: 0.55° → 0.69° alone); with it the gyro
-        // model alone is 0.08° and the pool halves the residual model's
-        // error (0.55° → 0.29°).
+        // the passes learnt would undo the corrections that removed them.
+        // Measured here, with the learnt scale imposed in the tilt passes too
+        // (`SmoothOptions::scale`): the residual model 0.107°, the pool
+        // 0.077°, the gyro model alone 0.063°, the default 0.064°; with the
+        // gyro model's scale left out, 0.246°, 0.466° and 0.409°.
         let hand = HandMotion::new(HandParams::by_hand(), 5);
         let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
         model.gyro.scale = Vec3::new(0.02, -0.015, 0.01);
         let (residual, pool, gyro, default) = offline_errors_by_gyro_weight(&hand, &model);
-        assert!(pool < 0.7 * residual, "{pool}° against {residual}°");
+        assert!(pool < 0.8 * residual, "{pool}° against {residual}°");
         assert!(default < pool, "{default}° against {pool}°");
-        // the gyro model alone, which without the learnt scale was worse than
+        // the gyro model alone, which without the learnt scale is worse than
         // the residual model
-        assert!(gyro < 0.5 * residual, "{gyro}° against {residual}°");
+        assert!(gyro < 0.7 * residual, "{gyro}° against {residual}°");
     }
 }
