@@ -548,7 +548,9 @@ fn smooth_compensated(
 const DRIFT_BIAS_GAIN: f64 = 8.0;
 
 /// Share of the forward and backward passes' disagreement (its mean square)
-/// the drift candidate's bias trajectory must remove to be taken: a faster
+/// a candidate must remove to be taken: the drift candidate's bias
+/// trajectory here, the learnt gyro scale imposed likewise (its shares in
+/// the `gyro_scale` comment of `smooth_regular`). For the drift: a faster
 /// bias lets both passes follow the accelerometer more closely, so some of
 /// the disagreement goes with it on any record; a drifting bias, which
 /// turns the two passes' tilts apart in opposite directions, is what
