@@ -1484,11 +1484,45 @@ mod tests {
         }
     }
 
-    /// The offline tilt RMSE (°, after the initial rest) of a hand holding
-    /// poses (creeping on, a 9-Hz tremor, never set down after the first
-    /// rest) at 40 Hz over 120 s, through the calibrated MPU6050 model
-    /// warming by `c_per_s`, smoothed with and without the drift candidate;
-    /// and whether the two results are the same to the bit.
+    /// The offline tilt RMSE (°, after `from_s`) of `motion` simulated
+    /// through `model` at `rate` Hz for 120 s, smoothed with `options(true)`
+    /// and `options(false)`; and whether the two results are the same to the
+    /// bit.
+    fn offline_on_and_off(
+        motion: &dyn Motion,
+        model: &crate::sim::ImuModel,
+        rate: f64,
+        seed: u64,
+        from_s: f64,
+        options: impl Fn(bool) -> SmoothOptions,
+    ) -> (f64, f64, bool) {
+        let s = model.simulate(motion, rate, 120.0, seed);
+        let g: Vec<Vec3> = s.iter().map(|x| x.gyr_rad_s).collect();
+        let a: Vec<Vec3> = s.iter().map(|x| x.acc_m_s2).collect();
+        let dt = vec![1.0 / rate; s.len()];
+        let (on, off) = (
+            smooth(&g, &a, &dt, &options(true)),
+            smooth(&g, &a, &dt, &options(false)),
+        );
+        let rms = |q: &[Attitude]| {
+            let mut e = crate::eval::Rms::default();
+            for (k, x) in s.iter().enumerate() {
+                if x.t_s > from_s {
+                    e.push(crate::eval::inclination_error(
+                        &q[k],
+                        &motion.truth(x.t_s).attitude,
+                    ));
+                }
+            }
+            e.value().to_degrees()
+        };
+        (rms(&on), rms(&off), on == off)
+    }
+
+    /// [`offline_on_and_off`] of a hand holding poses (creeping on, a 9-Hz
+    /// tremor, never set down after the first rest) at 40 Hz through the
+    /// calibrated MPU6050 model warming by `c_per_s`, with and without the
+    /// drift candidate.
     fn held_hand_offline(c_per_s: f64, seed: u64) -> (f64, f64, bool) {
         use crate::sim::hand::{HandMotion, HandParams};
         use crate::sim::motion::{Sum, vibration};
@@ -1499,35 +1533,17 @@ mod tests {
         };
         let mut model = crate::sim::slewing::sensor().with_bandwidth(16.0);
         model.temperature.rate_c_per_s = c_per_s;
-        let s = model.simulate(&m, 40.0, 120.0, seed);
-        let g: Vec<Vec3> = s.iter().map(|x| x.gyr_rad_s).collect();
-        let a: Vec<Vec3> = s.iter().map(|x| x.acc_m_s2).collect();
-        let dt = vec![1.0 / 40.0; s.len()];
-        let run = |drift: bool| {
-            smooth(
-                &g,
-                &a,
-                &dt,
-                &SmoothOptions {
-                    drift,
-                    ..Default::default()
-                },
-            )
-        };
-        let (on, off) = (run(true), run(false));
-        let rms = |q: &[Attitude]| {
-            let mut e = crate::eval::Rms::default();
-            for (k, x) in s.iter().enumerate() {
-                if x.t_s > hand.params.initial_rest_s {
-                    e.push(crate::eval::inclination_error(
-                        &q[k],
-                        &m.truth(x.t_s).attitude,
-                    ));
-                }
-            }
-            e.value().to_degrees()
-        };
-        (rms(&on), rms(&off), on == off)
+        offline_on_and_off(
+            &m,
+            &model,
+            40.0,
+            seed,
+            hand.params.initial_rest_s,
+            |drift| SmoothOptions {
+                drift,
+                ..Default::default()
+            },
+        )
     }
 
     #[test]
@@ -1557,44 +1573,25 @@ mod tests {
         }
     }
 
-    /// The offline tilt RMSE (°, after the initial rest) of a hand moved at
-    /// 100 Hz for 120 s through the calibrated MPU6050 model with gyro scale
-    /// errors `scale`, smoothed with and without the learnt scale imposed;
-    /// and whether the two results are the same to the bit.
+    /// [`offline_on_and_off`] of a hand moved at 100 Hz through the
+    /// calibrated MPU6050 model with gyro scale errors `scale`, with and
+    /// without the learnt scale imposed in the tilt passes.
     fn hand_offline_by_scale(scale: Vec3, seed: u64) -> (f64, f64, bool) {
         use crate::sim::hand::{HandMotion, HandParams};
         let hand = HandMotion::new(HandParams::by_hand(), seed);
         let mut model = crate::sim::slewing::sensor().with_bandwidth(40.0);
         model.gyro.scale = scale;
-        let s = model.simulate(&hand, 100.0, 120.0, seed);
-        let g: Vec<Vec3> = s.iter().map(|x| x.gyr_rad_s).collect();
-        let a: Vec<Vec3> = s.iter().map(|x| x.acc_m_s2).collect();
-        let dt = vec![0.01; s.len()];
-        let run = |scale: bool| {
-            smooth(
-                &g,
-                &a,
-                &dt,
-                &SmoothOptions {
-                    scale,
-                    ..Default::default()
-                },
-            )
-        };
-        let (on, off) = (run(true), run(false));
-        let rms = |q: &[Attitude]| {
-            let mut e = crate::eval::Rms::default();
-            for (k, x) in s.iter().enumerate() {
-                if x.t_s > hand.params.initial_rest_s {
-                    e.push(crate::eval::inclination_error(
-                        &q[k],
-                        &hand.truth(x.t_s).attitude,
-                    ));
-                }
-            }
-            e.value().to_degrees()
-        };
-        (rms(&on), rms(&off), on == off)
+        offline_on_and_off(
+            &hand,
+            &model,
+            100.0,
+            seed,
+            hand.params.initial_rest_s,
+            |scale| SmoothOptions {
+                scale,
+                ..Default::default()
+            },
+        )
     }
 
     #[test]
