@@ -170,9 +170,24 @@ pub struct Counts {
     pub dropouts: u64,
     /// Saturated samples (beyond the physical bounds).
     pub saturated: u64,
+    /// Samples whose gyro read at its full-scale range
+    /// ([`Pipeline::with_sensor_range`]; counted with their status too).
+    pub gyro_clipped: u64,
+    /// Samples whose accelerometer read at its full-scale range (as
+    /// `gyro_clipped`).
+    pub acc_clipped: u64,
 }
 
 impl Counts {
+    /// Count the readings of `s` at the ranges `range`; whether its gyro
+    /// and its accelerometer read at them ([`SensorRange::clipped`]).
+    pub fn record_clipping(&mut self, range: &SensorRange, s: &ImuSample) -> (bool, bool) {
+        let (gyro, acc) = range.clipped(s);
+        self.gyro_clipped += u64::from(gyro);
+        self.acc_clipped += u64::from(acc);
+        (gyro, acc)
+    }
+
     /// Count one sample of status `s`.
     pub fn record(&mut self, s: Status) {
         self.samples += 1;
@@ -203,6 +218,55 @@ pub fn admission(s: &ImuSample) -> Option<Status> {
     }
 }
 
+/// The full-scale ranges of a sensor's two triads: a reading at a range is
+/// clipped ([`Pipeline::with_sensor_range`]). Infinite (the default): not
+/// known, nothing is taken for clipped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorRange {
+    /// The gyro's range, rad/s (an MPU6050 powers on at ±250 °/s).
+    pub gyro_rad_s: f64,
+    /// The accelerometer's range, m/s² (an MPU6050 powers on at ±2 g).
+    pub acc_m_s2: f64,
+}
+
+impl Default for SensorRange {
+    fn default() -> Self {
+        Self {
+            gyro_rad_s: f64::INFINITY,
+            acc_m_s2: f64::INFINITY,
+        }
+    }
+}
+
+/// How close to its range a reading counts as clipped, as a fraction of the
+/// range: a 16-bit converter's rails are 32767 and −32768 counts (3·10⁻⁵ of
+/// the range apart), and a range written in rounded units (250 °/s for
+/// 250.0 or 249.99) is within 10⁻³ of the rail it names; a rate 0.25 °/s
+/// under a ±250 °/s rail is one that nearly clipped.
+pub const CLIP_MARGIN: f64 = 1e-3;
+
+impl SensorRange {
+    /// The ranges of a board's configuration: ±`accel_fs_g` g and
+    /// ±`gyro_fs_dps` °/s.
+    pub fn from_full_scale(accel_fs_g: f64, gyro_fs_dps: f64) -> Self {
+        Self {
+            gyro_rad_s: gyro_fs_dps.to_radians(),
+            acc_m_s2: accel_fs_g * crate::G0,
+        }
+    }
+
+    /// Whether the gyro and the accelerometer of `s` read at their ranges
+    /// (any axis within [`CLIP_MARGIN`] of it).
+    pub fn clipped(&self, s: &ImuSample) -> (bool, bool) {
+        let at =
+            |v: &Vec3, range: f64| range.is_finite() && v.amax() >= range * (1.0 - CLIP_MARGIN);
+        (
+            at(&s.gyr_rad_s, self.gyro_rad_s),
+            at(&s.acc_m_s2, self.acc_m_s2),
+        )
+    }
+}
+
 /// calibrate → compensate → filter → tilt (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct Pipeline {
@@ -220,6 +284,7 @@ pub struct Pipeline {
     filter: AnyFilter,
     last_t: Option<f64>,
     counts: Counts,
+    range: SensorRange,
 }
 
 impl Pipeline {
@@ -236,7 +301,34 @@ impl Pipeline {
             feeds_back_arm: false,
             last_t: None,
             counts: Counts::default(),
+            range: SensorRange::default(),
         }
+    }
+
+    /// The same pipeline knowing the sensor's full-scale ranges, so that a
+    /// sample read at a range is known to be clipped: the true value was
+    /// larger. Each is counted ([`Counts::gyro_clipped`],
+    /// [`Counts::acc_clipped`]), and the dynamic filter is told: of a clipped
+    /// gyro ([`crate::filter::Dynamic::note_gyro_clipped`]), whose
+    /// propagation fell short of the turn, so it realigns on the
+    /// accelerometer as at power-on and learns no scale error from the
+    /// clipped turn; of a clipped accelerometer
+    /// ([`crate::filter::Dynamic::note_acc_clipped`]), whose missing specific
+    /// force its velocity residual then forgets within a second.
+    pub fn with_sensor_range(mut self, range: SensorRange) -> Self {
+        self.range = range;
+        self
+    }
+
+    /// Change the sensor's full-scale ranges from the next sample on (a
+    /// board that reports a new configuration while streaming).
+    pub fn set_sensor_range(&mut self, range: SensorRange) {
+        self.range = range;
+    }
+
+    /// The sensor's full-scale ranges as given ([`Pipeline::with_sensor_range`]).
+    pub fn sensor_range(&self) -> SensorRange {
+        self.range
     }
 
     /// The same pipeline with lever-arm compensation: `r_m` is the sensor's
@@ -403,6 +495,16 @@ impl Pipeline {
         if let Some(why) = admission(s) {
             return why;
         }
+        // the sensor's own reading, before calibration moved its rails
+        let (gyro_clipped, acc_clipped) = self.counts.record_clipping(&self.range, sample);
+        if let Some(d) = self.filter.as_dynamic_mut() {
+            if gyro_clipped {
+                d.note_gyro_clipped();
+            }
+            if acc_clipped {
+                d.note_acc_clipped();
+            }
+        }
         let dt = match self.last_t {
             Some(t0) => {
                 let dt = s.t_s - t0;
@@ -565,6 +667,59 @@ mod tests {
             }
             assert_eq!(p.counts().saturated, 2);
         }
+    }
+
+    #[test]
+    fn a_reading_at_its_range_is_clipped_and_counted() {
+        // an MPU6050 at ±250 °/s and ±2 g: its rails are 32767/131 = 250.13 °/s
+        // and −32768/131, 32767/16384 g; 0.1 % under a range counts, less not
+        let r = SensorRange::from_full_scale(2.0, 250.0);
+        let at = |w: f64, f: f64| {
+            r.clipped(&ImuSample::new(
+                0.0,
+                Vec3::new(0.0, w, 0.0),
+                Vec3::new(0.0, 0.0, f),
+            ))
+        };
+        let dps = |d: f64| d.to_radians();
+        assert_eq!(at(dps(32767.0 / 131.0), G0), (true, false));
+        assert_eq!(at(dps(-32768.0 / 131.0), G0), (true, false));
+        assert_eq!(at(dps(249.76), G0), (true, false));
+        assert_eq!(at(dps(249.74), G0), (false, false));
+        assert_eq!(at(0.0, -32768.0 / 16384.0 * G0), (false, true));
+        assert_eq!(at(0.0, 1.997 * G0), (false, false));
+        // not known: nothing is clipped, however large
+        let none = SensorRange::default();
+        let big = ImuSample::new(0.0, Vec3::repeat(100.0), Vec3::repeat(1e3));
+        assert_eq!(none.clipped(&big), (false, false));
+        // counted with their status; the attitude goes on
+        let mut p = Pipeline::new(FilterSpec::default()).with_sensor_range(r);
+        p.update(&still(0.0));
+        let mut turn = still(0.01);
+        turn.gyr_rad_s.x = dps(250.13);
+        assert_eq!(p.update(&turn).status, Status::Fused);
+        let mut bump = still(0.02);
+        bump.acc_m_s2.z = 2.0 * G0;
+        assert_eq!(p.update(&bump).status, Status::Fused);
+        let c = p.counts();
+        assert_eq!((c.gyro_clipped, c.acc_clipped, c.fused), (1, 1, 2));
+        // a calibration moves the readings, not the rails: the raw sample is judged
+        let mut cal = Pipeline::new(FilterSpec::default())
+            .with_sensor_range(r)
+            .with_calibration(Some(crate::sensor::Calibration {
+                gyro: Some(crate::sensor::TriadCalibration {
+                    model: crate::sensor::TriadModel::Matrix(crate::sensor::MatrixModel {
+                        bias: [dps(1.0), 0.0, 0.0],
+                        ..Default::default()
+                    }),
+                    valid_temp_c: [-40.0, 85.0],
+                }),
+                accel: None,
+                mag: None,
+            }));
+        cal.update(&still(0.0));
+        cal.update(&turn);
+        assert_eq!(cal.counts().gyro_clipped, 1);
     }
 
     #[test]

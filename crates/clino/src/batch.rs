@@ -433,6 +433,15 @@ fn fuse_rows(
         }
     }
     let mut report = FuseReport::default();
+    if config.offline {
+        // counted as `fuse_into` counts them: the raw readings of usable rows
+        for k in 0..n {
+            let s = arrays.sample(k);
+            if clino_core::pipeline::admission(&s).is_none() {
+                report.counts.record_clipping(&config.sensor_range, &s);
+            }
+        }
+    }
     let mut put = |k: usize, o: &Output| {
         report.counts.record(o.status);
         if matches!(o.status, Status::Dropout | Status::Saturated) {
@@ -461,6 +470,8 @@ fn fuse_rows(
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
         run_rows(&mut p, arrays, put);
+        let pc = p.counts();
+        (report.counts.gyro_clipped, report.counts.acc_clipped) = (pc.gyro_clipped, pc.acc_clipped);
         // what `clino fuse` reports of a real-time run, from the same pipeline
         report.mount = p.mount_estimator().map(crate::fusion::MountReport::of);
         report.sensor_errors = p
