@@ -465,3 +465,42 @@ fn lever_arm_auto_estimates_and_changes_the_result_and_jobs_keep_the_table() {
     assert!(one.status.success(), "{}", stderr(&one));
     assert_eq!(one.stdout, two.stdout);
 }
+
+#[test]
+fn the_sensor_range_counts_clipped_readings_and_is_checked() {
+    // BROAD trial 07's excerpt turns at up to 1385 °/s and reads up to 2.2 g
+    let d = scratch("range");
+    let input = write(&d, "in.csv", excerpt());
+    let plain = clino(&["fuse", &input]);
+    let wide = clino(&["fuse", &input, "--gyro-range", "2000", "--acc-range", "16"]);
+    let narrow = clino(&["fuse", &input, "--gyro-range", "500", "--acc-range", "16"]);
+    for o in [&plain, &wide, &narrow] {
+        assert!(o.status.success(), "{}", stderr(o));
+    }
+    // never reached: the same attitudes, nothing reported
+    assert_eq!(plain.stdout, wide.stdout);
+    assert!(!stderr(&wide).contains("clipped"), "{}", stderr(&wide));
+    // reached: counted, and the dynamic filter told
+    let e = stderr(&narrow);
+    let n: u64 = e
+        .split("clipped at the sensor's range: ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(n > 0 && e.contains(", 0 accelerometer"), "{e}");
+    assert_ne!(plain.stdout, narrow.stdout);
+    // eval takes the flags too
+    let ev = clino(&["eval", &input, "-f", "dynamic", "--gyro-range", "500"]);
+    assert!(ev.status.success(), "{}", stderr(&ev));
+    // a range that is not one
+    for (flag, v) in [
+        ("--gyro-range", "0"),
+        ("--acc-range", "-2"),
+        ("--gyro-range", "nan"),
+    ] {
+        let o = clino(&["fuse", &input, flag, v]);
+        assert!(!o.status.success(), "{flag} {v}");
+        assert!(stderr(&o).contains(flag), "{}", stderr(&o));
+    }
+}

@@ -16,7 +16,7 @@ use clino::calib::{self, CalibOptions, CalibrationFile, Method, Recording, Stati
 use clino::core::{Attitude, ImuSample, Vec3};
 use clino::eval::{self, Rms};
 use clino::fusion::{
-    FilterConfig, FilterSpec, FuseOptions, Pipeline, Status, apply_params, parse_spec,
+    FilterConfig, FilterSpec, FuseOptions, Pipeline, SensorRange, Status, apply_params, parse_spec,
     parse_spec_list,
 };
 use clino::io::{
@@ -92,11 +92,28 @@ fn slice<'a>(a: &'a PyReadonlyArray1<'_, f64>, name: &str) -> PyResult<&'a [f64]
         .map_err(|_| PyValueError::new_err(format!("{name} must be contiguous")))
 }
 
+/// The sensor's full-scale ranges from the Python arguments (`gyro_range`
+/// °/s, `acc_range` g; None: not known), as `--gyro-range` and `--acc-range`.
+fn sensor_range(gyro_range: Option<f64>, acc_range: Option<f64>) -> PyResult<SensorRange> {
+    let check = |v: Option<f64>, name: &str, unit: &str| match v {
+        None => Ok(f64::INFINITY),
+        Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Some(x) => Err(PyValueError::new_err(format!(
+            "{name} must be a positive, finite full-scale range ({unit}), got {x}"
+        ))),
+    };
+    Ok(SensorRange::from_full_scale(
+        check(acc_range, "acc_range", "g")?,
+        check(gyro_range, "gyro_range", "°/s")?,
+    ))
+}
+
 /// The filter configuration from the Python arguments, by the CLI's parsers.
 fn config(
     filter: &str,
     params: &[(String, String)],
     lever_arm: Option<[f64; 3]>,
+    range: SensorRange,
     offline: bool,
 ) -> clino::Result<FilterConfig> {
     let mut spec = [parse_spec(filter)?];
@@ -107,6 +124,7 @@ fn config(
     apply_params(&mut spec, &p)?;
     let c = FilterConfig::from_spec(spec[0])
         .with_lever_arm(lever_arm.map(Vec3::from))
+        .with_sensor_range(range)
         .with_offline(offline);
     c.validate()?;
     Ok(c)
@@ -189,7 +207,7 @@ impl<'py> OutBuffers<'py> {
 /// outputs are allocated once and the library writes every row into them
 /// with the GIL released.
 #[pyfunction]
-#[pyo3(signature = (gyr, acc, t=None, rate=None, filter="dynamic", lever_arm=None, calibration=None, offline=false, params=Vec::new(), temp_c=None, tilt=true))]
+#[pyo3(signature = (gyr, acc, t=None, rate=None, filter="dynamic", lever_arm=None, calibration=None, offline=false, params=Vec::new(), temp_c=None, tilt=true, gyro_range=None, acc_range=None))]
 #[allow(clippy::too_many_arguments)]
 fn fuse<'py>(
     py: Python<'py>,
@@ -204,8 +222,11 @@ fn fuse<'py>(
     params: Vec<(String, String)>,
     temp_c: Option<PyReadonlyArray1<'py, f64>>,
     tilt: bool,
+    gyro_range: Option<f64>,
+    acc_range: Option<f64>,
 ) -> PyResult<FusedWithCounts<'py>> {
-    let cfg = config(filter, &params, lever_arm, offline).py(py)?;
+    let range = sensor_range(gyro_range, acc_range)?;
+    let cfg = config(filter, &params, lever_arm, range, offline).py(py)?;
     let g = strided(&gyr, "gyr")?;
     let a = strided(&acc, "acc")?;
     let ts = t.as_ref().map(|x| slice(x, "t")).transpose()?;
@@ -271,7 +292,8 @@ impl PyPipeline {
 #[pymethods]
 impl PyPipeline {
     #[new]
-    #[pyo3(signature = (filter="dynamic", rate=None, lever_arm=None, calibration=None, params=Vec::new()))]
+    #[pyo3(signature = (filter="dynamic", rate=None, lever_arm=None, calibration=None, params=Vec::new(), gyro_range=None, acc_range=None))]
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         filter: &str,
@@ -279,8 +301,11 @@ impl PyPipeline {
         lever_arm: Option<[f64; 3]>,
         calibration: Option<PyRef<'_, PyCalibration>>,
         params: Vec<(String, String)>,
+        gyro_range: Option<f64>,
+        acc_range: Option<f64>,
     ) -> PyResult<Self> {
-        let cfg = config(filter, &params, lever_arm, false).py(py)?;
+        let range = sensor_range(gyro_range, acc_range)?;
+        let cfg = config(filter, &params, lever_arm, range, false).py(py)?;
         let pipeline = cfg
             .pipeline()
             .py(py)?
@@ -395,12 +420,14 @@ fn filter_help() -> String {
 /// The parsed specification, in its canonical text form.
 #[pyfunction]
 fn spec_text(py: Python<'_>, filter: &str, params: Vec<(String, String)>) -> PyResult<String> {
-    Ok(config(filter, &params, None, false).py(py)?.label())
+    Ok(config(filter, &params, None, SensorRange::default(), false)
+        .py(py)?
+        .label())
 }
 
 /// `clino eval` (JSON of the table, as `clino eval --json` prints it).
 #[pyfunction]
-#[pyo3(signature = (paths, filter="all", params=Vec::new(), lever_arm=None, offline=false, jobs=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0))]
+#[pyo3(signature = (paths, filter="all", params=Vec::new(), lever_arm=None, offline=false, jobs=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None))]
 #[allow(clippy::too_many_arguments)]
 fn evaluate(
     py: Python<'_>,
@@ -414,7 +441,10 @@ fn evaluate(
     accel_unit: &str,
     rate: Option<f64>,
     g: f64,
+    gyro_range: Option<f64>,
+    acc_range: Option<f64>,
 ) -> PyResult<String> {
+    let range = sensor_range(gyro_range, acc_range)?;
     let opts = read_options(gyro_unit, accel_unit, rate, g).py(py)?;
     let res = py.detach(|| -> clino::Result<_> {
         let mut specs: Vec<FilterSpec> = parse_spec_list(filter)?;
@@ -423,7 +453,11 @@ fn evaluate(
             .map(|(k, v)| (k.as_str(), v.clone()))
             .collect();
         apply_params(&mut specs, &p)?;
-        let configs = eval::eval_configs(&specs, lever_arm.map(Vec3::from), offline)?;
+        let configs: Vec<FilterConfig> =
+            eval::eval_configs(&specs, lever_arm.map(Vec3::from), offline)?
+                .into_iter()
+                .map(|c| c.with_sensor_range(range))
+                .collect();
         eval::evaluate(&paths, &configs, &opts, jobs, |_, _, _| {})
     });
     json(&res.py(py)?)
@@ -754,7 +788,7 @@ impl Read for PyStream {
 /// `clino::batch::RecordingSummary`). `source` is a path, or a binary file
 /// object (CSV) named `name`.
 #[pyfunction]
-#[pyo3(signature = (source, name=None, filter="dynamic", params=Vec::new(), lever_arm=None, offline=false, calibration=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0))]
+#[pyo3(signature = (source, name=None, filter="dynamic", params=Vec::new(), lever_arm=None, offline=false, calibration=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None))]
 #[allow(clippy::too_many_arguments)]
 fn summarize(
     py: Python<'_>,
@@ -769,8 +803,11 @@ fn summarize(
     accel_unit: &str,
     rate: Option<f64>,
     g: f64,
+    gyro_range: Option<f64>,
+    acc_range: Option<f64>,
 ) -> PyResult<String> {
-    let cfg = config(filter, &params, lever_arm, offline).py(py)?;
+    let range = sensor_range(gyro_range, acc_range)?;
+    let cfg = config(filter, &params, lever_arm, range, offline).py(py)?;
     let opts = ReadOptions {
         imu_only: calibration.is_none(),
         ..read_options(gyro_unit, accel_unit, rate, g).py(py)?

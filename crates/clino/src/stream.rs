@@ -304,8 +304,15 @@ impl StreamCounts {
                 self.received, p.samples, self.dropped
             ),
             format!(
-                "filter: {} initialised, {} fused, {} gyro only, {} waiting, {} dropouts, {} saturated",
-                p.initialised, p.fused, p.gyro_only, p.waiting, p.dropouts, p.saturated
+                "filter: {} initialised, {} fused, {} gyro only, {} waiting, {} dropouts, {} saturated, clipped at the sensor's range: {} gyro, {} accelerometer",
+                p.initialised,
+                p.fused,
+                p.gyro_only,
+                p.waiting,
+                p.dropouts,
+                p.saturated,
+                p.gyro_clipped,
+                p.acc_clipped
             ),
             format!(
                 "frames: {} bad{}, {} garbage bytes, {} sequence gaps ({} samples missing), {} repeated",
@@ -410,6 +417,14 @@ pub fn dial_frame(t: &TiltOutput) -> Frame {
     }
 }
 
+/// What the reader hands the consumer in order: samples, and a board's
+/// configuration between them (its notice is also counted and shown with
+/// the others).
+enum InBand {
+    Sample(ImuSample),
+    Config(protocol::Config),
+}
+
 /// The consumer's side of a run.
 struct Consumer<'a, 'o> {
     pipeline: Pipeline,
@@ -439,6 +454,11 @@ impl Consumer<'_, '_> {
         }
         let o = self.pipeline.update(s);
         self.counts.pipeline.record(o.status);
+        let pc = self.pipeline.counts();
+        (
+            self.counts.pipeline.gyro_clipped,
+            self.counts.pipeline.acc_clipped,
+        ) = (pc.gyro_clipped, pc.acc_clipped);
         if let Some(csv) = self.outputs.csv.as_mut() {
             csv.row(s.t_s, &o)?;
         }
@@ -456,6 +476,29 @@ impl Consumer<'_, '_> {
             self.window = (Some(s.t_s), s.t_s, 1);
         }
         Ok(())
+    }
+
+    /// A board's configuration names its full-scale ranges: a reading at one
+    /// is clipped ([`Pipeline::with_sensor_range`]). Ranges given by the
+    /// user ([`FilterConfig::sensor_range`]) are kept.
+    fn board_ranges(&mut self, b: &protocol::Config) {
+        if self.cfg.filter.sensor_range == crate::fusion::SensorRange::default() {
+            self.pipeline
+                .set_sensor_range(crate::fusion::SensorRange::from_full_scale(
+                    f64::from(b.accel_fs_g),
+                    f64::from(b.gyro_fs_dps),
+                ));
+        }
+    }
+
+    fn item(&mut self, i: &InBand, obs: &mut dyn StreamObserver) -> Result<()> {
+        match i {
+            InBand::Sample(s) => self.sample(s, obs),
+            InBand::Config(b) => {
+                self.board_ranges(b);
+                Ok(())
+            }
+        }
     }
 
     fn live(&self) -> LiveStatus {
@@ -501,7 +544,7 @@ pub fn run(
         last_sample: Instant::now(),
         temp_reported: false,
     };
-    let (stx, srx) = mpsc::sync_channel::<ImuSample>(cfg.capacity.max(1));
+    let (stx, srx) = mpsc::sync_channel::<InBand>(cfg.capacity.max(1));
     let (ntx, nrx) = mpsc::channel::<SourceNotice>();
     let (ctx, crx) = mpsc::channel::<Frame>();
     let dropped = AtomicU64::new(0);
@@ -528,7 +571,7 @@ pub fn run(
 
 fn read_loop(
     mut source: Box<dyn SampleSource + Send>,
-    stx: mpsc::SyncSender<ImuSample>,
+    stx: mpsc::SyncSender<InBand>,
     ntx: mpsc::Sender<SourceNotice>,
     crx: mpsc::Receiver<Frame>,
     dropped: &AtomicU64,
@@ -537,7 +580,7 @@ fn read_loop(
 ) -> Result<()> {
     let live = source.is_live();
     let mut emit = |ev: SourceEvent| match ev {
-        SourceEvent::Sample(s) if live => match stx.try_send(s) {
+        SourceEvent::Sample(s) if live => match stx.try_send(InBand::Sample(s)) {
             Ok(()) => {}
             Err(mpsc::TrySendError::Full(_)) => {
                 dropped.fetch_add(1, Ordering::Relaxed);
@@ -545,9 +588,14 @@ fn read_loop(
             Err(mpsc::TrySendError::Disconnected(_)) => {}
         },
         SourceEvent::Sample(s) => {
-            let _ = stx.send(s);
+            let _ = stx.send(InBand::Sample(s));
         }
         SourceEvent::Notice(n) => {
+            // a board's configuration goes in order with its samples, and is
+            // never dropped (it names the ranges they are read at)
+            if let SourceNotice::Link(Notice::Config(c)) = &n {
+                let _ = stx.send(InBand::Config(*c));
+            }
             let _ = ntx.send(n);
         }
     };
@@ -564,7 +612,7 @@ fn read_loop(
 
 fn consume(
     c: &mut Consumer,
-    srx: &mpsc::Receiver<ImuSample>,
+    srx: &mpsc::Receiver<InBand>,
     nrx: &mpsc::Receiver<SourceNotice>,
     ctx: &mpsc::Sender<Frame>,
     obs: &mut dyn StreamObserver,
@@ -574,11 +622,11 @@ fn consume(
     let (mut last_tick, mut last_dials) = (Instant::now(), Instant::now());
     loop {
         match srx.recv_timeout(Duration::from_millis(50)) {
-            Ok(s) => {
-                c.sample(&s, obs)?;
+            Ok(i) => {
+                c.item(&i, obs)?;
                 for _ in 0..1024 {
                     match srx.try_recv() {
-                        Ok(s) => c.sample(&s, obs)?,
+                        Ok(i) => c.item(&i, obs)?,
                         Err(_) => break,
                     }
                 }
@@ -753,6 +801,70 @@ mod tests {
         fn tick(&mut self, _: &LiveStatus) {
             self.0 += 1;
         }
+    }
+
+    /// A board streaming 100 Hz at ±`gyro_fs` °/s: its CONFIG, then samples
+    /// at rest whose x rate sits on the gyro's rail for samples 100–109
+    /// (its counts of 250.13 °/s at ±250), then a second CONFIG at ±2000 °/s
+    /// and the same again (100 samples, 10 of them at 250.13 °/s, now far
+    /// from the rail).
+    struct Board {
+        k: u64,
+    }
+    impl SampleSource for Board {
+        fn poll(&mut self, emit: &mut dyn FnMut(SourceEvent)) -> Result<bool> {
+            let config = |gyro_fs_dps| protocol::Config {
+                gyro_fs_dps,
+                ..VECTOR_CONFIG
+            };
+            if self.k == 0 || self.k == 200 {
+                let c = config(if self.k == 0 { 250 } else { 2000 });
+                emit(SourceEvent::Notice(SourceNotice::Link(Notice::Config(c))));
+            }
+            if self.k == 300 {
+                return Ok(false);
+            }
+            let rail = f64::from(i16::MAX) / 131.0;
+            let w = if (100..110).contains(&(self.k % 200)) {
+                rail.to_radians()
+            } else {
+                0.0
+            };
+            emit(SourceEvent::Sample(ImuSample::new(
+                self.k as f64 * 0.01,
+                Vec3::new(w, 0.0, 0.0),
+                Vec3::new(0.0, 0.0, 9.81),
+            )));
+            self.k += 1;
+            Ok(true)
+        }
+        fn name(&self) -> &str {
+            "board"
+        }
+    }
+
+    #[test]
+    fn a_board_names_the_ranges_its_samples_clip_at() {
+        let stop = AtomicBool::new(false);
+        let run_with = |range: crate::fusion::SensorRange| {
+            let cfg =
+                StreamConfig::new(FilterConfig::new(FilterKind::Dynamic).with_sensor_range(range));
+            run(
+                Box::new(Board { k: 0 }),
+                &cfg,
+                &mut StreamOutputs::default(),
+                &mut Slow(0),
+                &stop,
+            )
+            .unwrap()
+        };
+        // the board's ranges: the ten samples on the ±250 °/s rail, not the
+        // ten read at ±2000 °/s
+        let c = run_with(crate::fusion::SensorRange::default());
+        assert_eq!((c.pipeline.samples, c.pipeline.gyro_clipped), (300, 10));
+        // the user's ranges are kept
+        let r = crate::fusion::SensorRange::from_full_scale(16.0, 2000.0);
+        assert_eq!(run_with(r).pipeline.gyro_clipped, 0);
     }
 
     #[test]

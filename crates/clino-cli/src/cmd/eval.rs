@@ -49,7 +49,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.stages.offline && !specs.iter().any(|s| s.kind() == FilterKind::Dynamic) {
         anyhow::bail!("--offline smooths the dynamic filter: include it in --filter");
     }
-    let configs = eval_configs(&specs, lever_arm, a.stages.offline)?;
+    let range = a.stages.sensor_range()?;
+    let configs: Vec<_> = eval_configs(&specs, lever_arm, a.stages.offline)?
+        .into_iter()
+        .map(|c| c.with_sensor_range(range))
+        .collect();
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(indicatif::ProgressStyle::with_template(
         "{bar:30} {pos}/{len} {msg}",

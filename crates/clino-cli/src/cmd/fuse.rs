@@ -128,7 +128,7 @@ fn sensor_error_summary(e: &clino::fusion::SensorErrorReport) -> String {
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
     format!(
-        "clino fuse: {} rows with {label}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{})",
+        "clino fuse: {} rows with {label}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{}){}",
         rep.counts.samples,
         rep.counts.initialised,
         rep.counts.fused,
@@ -138,7 +138,19 @@ fn summary(rep: &FuseReport, label: &str) -> String {
         rep.counts.saturated,
         rep.first_dropout_line
             .map(|l| format!(", first at line {l}"))
-            .unwrap_or_default()
+            .unwrap_or_default(),
+        clipped(&rep.counts)
+    )
+}
+
+/// The clipped readings, when the sensor's ranges were given and any were.
+fn clipped(c: &clino::fusion::Counts) -> String {
+    if c.gyro_clipped + c.acc_clipped == 0 {
+        return String::new();
+    }
+    format!(
+        "; clipped at the sensor's range: {} gyro, {} accelerometer",
+        c.gyro_clipped, c.acc_clipped
     )
 }
 

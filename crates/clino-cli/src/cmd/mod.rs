@@ -187,7 +187,8 @@ pub fn filter_config(
     let config = FilterConfig::from_spec(spec[0])
         .with_lever_arm(lever)
         .with_lever_auto(auto)
-        .with_offline(stages.offline);
+        .with_offline(stages.offline)
+        .with_sensor_range(stages.sensor_range()?);
     config.validate()?;
     Ok(config)
 }
@@ -278,9 +279,46 @@ pub struct StageArgs {
     /// refinement; dynamic filter only). Holds the recording in memory.
     #[arg(long)]
     pub offline: bool,
+    /// The gyro's full-scale range, °/s (an MPU6050 powers on at 250). A rate read at it
+    /// is clipped: counted, and the real-time dynamic filter realigns on the accelerometer
+    /// after it and learns no scale error from the clipped turn (offline: counted only).
+    /// `clino stream` takes the board's own ranges when this is not given.
+    #[arg(long, value_name = "DEG_S", allow_hyphen_values = true)]
+    pub gyro_range: Option<f64>,
+    /// The accelerometer's full-scale range, g (an MPU6050 powers on at 2). A specific force
+    /// read at it is clipped and counted.
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    pub acc_range: Option<f64>,
 }
 
 impl StageArgs {
+    /// The sensor's ranges the flags give (infinite where not given).
+    pub fn sensor_range(&self) -> anyhow::Result<clino::fusion::SensorRange> {
+        let mut r = clino::fusion::SensorRange::default();
+        for (flag, v, unit, out) in [
+            (
+                "--gyro-range",
+                self.gyro_range,
+                1f64.to_radians(),
+                &mut r.gyro_rad_s,
+            ),
+            (
+                "--acc-range",
+                self.acc_range,
+                clino::core::G0,
+                &mut r.acc_m_s2,
+            ),
+        ] {
+            if let Some(v) = v {
+                if !(v.is_finite() && v > 0.0) {
+                    anyhow::bail!("{flag} wants a positive full-scale range, got {v}");
+                }
+                *out = v * unit;
+            }
+        }
+        Ok(r)
+    }
+
     /// The lever arm in metres, parsed from "X,Y,Z".
     pub fn lever_arm(&self) -> anyhow::Result<Option<nalgebra::Vector3<f64>>> {
         let Some(s) = &self.lever_arm else {

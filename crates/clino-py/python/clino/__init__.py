@@ -113,13 +113,18 @@ def _lever(lever_arm: Any) -> Optional[Tuple[float, float, float]]:
     return (v[0], v[1], v[2])
 
 
+def _range(x: Any) -> Optional[float]:
+    # None: not known; anything else is checked (positive, finite) by the extension
+    return None if x is None else float(x)
+
+
 def _calibration(c: Any) -> Optional[Calibration]:
     if c is None or isinstance(c, Calibration):
         return c
     return Calibration.load(_os.fspath(c))
 
 
-def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, tilt, params):
+def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, tilt, gyro_range, acc_range, params):
     g = _vec3_array(gyr, "gyr")
     a = _vec3_array(acc, "acc")
     q, d, st, counts = _clino.fuse(
@@ -134,6 +139,8 @@ def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, ti
         params=_params(params),
         temp_c=_vec1_array(temp_c, "temp_c"),
         tilt=tilt,
+        gyro_range=_range(gyro_range),
+        acc_range=_range(acc_range),
     )
     return q, d, st, _json.loads(counts)
 
@@ -149,6 +156,8 @@ def fuse(
     offline: bool = False,
     *,
     temp_c: Any = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     **params: Any,
 ) -> _np.ndarray:
     """Attitude of every sample: the quaternions ``clino fuse`` writes.
@@ -165,6 +174,12 @@ def fuse(
     calibration : :class:`Calibration` or path of a calibration TOML file.
     offline : bool — smooth over the whole recording (dynamic filter only).
     temp_c : (N,) array, °C — temperature, for a temperature-dependent calibration.
+    gyro_range : float, °/s — the gyro's full-scale range (an MPU6050 powers on at
+        250); a rate read at it is clipped: counted, and the dynamic filter realigns on
+        the accelerometer after it and learns no scale error from the clipped turn.
+        None (default): not known.
+    acc_range : float, g — the accelerometer's full-scale range, likewise (MPU6050: 2);
+        a specific force read at it is clipped and counted.
     **params : filter parameters by key, with or without unit suffix
         (``bandwidth=0.2`` for ``bandwidth_rad_s``); a key the filter does not read
         is an error.
@@ -180,7 +195,9 @@ def fuse(
     the library writes each row's quaternion straight into it, with the GIL
     released while the filter runs: nothing is allocated per row.
     """
-    q, _, _, _ = _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, False, params)
+    q, _, _, _ = _fuse(
+        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, False, gyro_range, acc_range, params
+    )
     return q
 
 
@@ -195,6 +212,8 @@ def fuse_full(
     offline: bool = False,
     *,
     temp_c: Any = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     **params: Any,
 ) -> Dict[str, Any]:
     """:func:`fuse` with the tilt outputs and the status of every sample.
@@ -203,7 +222,9 @@ def fuse_full(
     (aerospace z-y-x, degrees), ``inclination_deg`` (body z from the vertical,
     degrees), each (N,); ``status`` (N,) str (``waiting``, ``init``, ``fused``,
     ``gyro_only``, ``dropout``, ``saturated``); ``status_code`` (N,) uint8 (index
-    in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts);
+    in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts, with
+    ``gyro_clipped`` and ``acc_clipped``: samples read at ``gyro_range`` or
+    ``acc_range``);
     ``sensor_errors`` (dict: what ``dynamic`` learnt from rest to rest, with 1σ
     and probabilities, and the gyro scale its loop learnt in motion
     (``motion_gyro_scale``), as ``clino fuse`` prints it; None offline or for another
@@ -211,7 +232,9 @@ def fuse_full(
     their 1σ, when the configuration estimates them; else None). The same
     numbers as the columns of ``clino fuse``.
     """
-    q, d, st, counts = _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, True, params)
+    q, d, st, counts = _fuse(
+        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, True, gyro_range, acc_range, params
+    )
     return {
         "quat": q,
         "roll_deg": d[:, 0],
@@ -233,7 +256,9 @@ class Filter:
     ``**params`` its parameters. :meth:`update` takes one sample,
     :meth:`update_batch` (alias :meth:`updateBatch`) an (N, 3) pair of arrays;
     both go through the same pipeline, so any split of a recording into
-    batches gives the same numbers as one :func:`fuse` call.
+    batches gives the same numbers as one :func:`fuse` call. ``lever_arm``,
+    ``calibration``, ``gyro_range`` (°/s) and ``acc_range`` (g) are those of
+    :func:`fuse`; :attr:`counts` then counts the clipped samples too.
     """
 
     _default_filter = "dynamic"
@@ -246,6 +271,8 @@ class Filter:
         filter: Optional[str] = None,
         lever_arm: Any = None,
         calibration: Any = None,
+        gyro_range: Optional[float] = None,
+        acc_range: Optional[float] = None,
         **params: Any,
     ) -> None:
         if Ts is not None and rate is not None:
@@ -260,6 +287,8 @@ class Filter:
             lever_arm=_lever(lever_arm),
             calibration=_calibration(calibration),
             params=_params(params),
+            gyro_range=_range(gyro_range),
+            acc_range=_range(acc_range),
         )
         self._quat: Optional[_np.ndarray] = None
 
@@ -307,7 +336,7 @@ class Filter:
 
     @property
     def counts(self) -> Dict[str, int]:
-        """Samples by status so far."""
+        """Samples by status so far, and the clipped ones (``gyro_clipped``, ``acc_clipped``)."""
         return _json.loads(self._p.counts())
 
     @property
@@ -370,6 +399,8 @@ def evaluate(
     *,
     lever_arm: Any = None,
     offline: bool = False,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     jobs: Optional[int] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
@@ -388,7 +419,8 @@ def evaluate(
     when it barely turns — and ``mean_rmse_deg``), or with ``as_frame=True`` a
     pandas DataFrame, one row per (recording, filter), the delay as
     ``sensor_delay_periods``. One task per recording on ``jobs`` threads (all
-    cores by default), GIL released.
+    cores by default), GIL released. ``lever_arm``, ``offline``, ``gyro_range``
+    (°/s) and ``acc_range`` (g) apply to every filter, as in :func:`fuse`.
     """
     if isinstance(paths, (str, _os.PathLike)):
         paths = [paths]
@@ -397,6 +429,7 @@ def evaluate(
             [_os.fspath(p) for p in paths], filter=filter, params=_params(params),
             lever_arm=_lever(lever_arm), offline=offline, jobs=jobs,
             gyro_unit=gyro_unit, accel_unit=accel_unit, rate=rate, g=g,
+            gyro_range=_range(gyro_range), acc_range=_range(acc_range),
         )
     )
     _nan_scores(out)
@@ -524,6 +557,8 @@ def summarize(
     lever_arm: Any = None,
     offline: bool = False,
     calibration: Any = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
     rate: Optional[float] = None,
@@ -533,15 +568,18 @@ def summarize(
     """Per-recording tilt statistics, streaming ``clino fuse``'s run: memory flat
     in the recording's length. ``source``: a path (CSV or Parquet), or a binary
     file object holding CSV (e.g. ``fsspec.open(url, "rb")``). Returns a flat
-    dict: ``file``, ``filter``, counts by status, and ``{roll,pitch,inclination}_
-    {n,mean_deg,std_deg,min_deg,max_deg}``, ``t_first_s``, ``t_last_s``."""
+    dict: ``file``, ``filter``, counts by status (and ``gyro_clipped``,
+    ``acc_clipped``: samples read at ``gyro_range`` °/s or ``acc_range`` g, as in
+    :func:`fuse`), and ``{roll,pitch,inclination}_{n,mean_deg,std_deg,min_deg,max_deg}``,
+    ``t_first_s``, ``t_last_s``."""
     if isinstance(source, (str, _os.PathLike)):
         source = _os.fspath(source)
     s = _json.loads(
         _clino.summarize(
             source, name=name, filter=filter, params=_params(params), lever_arm=_lever(lever_arm),
             offline=offline, calibration=_calibration(calibration), gyro_unit=gyro_unit,
-            accel_unit=accel_unit, rate=rate, g=g,
+            accel_unit=accel_unit, rate=rate, g=g, gyro_range=_range(gyro_range),
+            acc_range=_range(acc_range),
         )
     )
     row: Dict[str, Any] = {"file": s["file"], "filter": s["filter"]}

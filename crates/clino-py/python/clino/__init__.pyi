@@ -47,6 +47,8 @@ def fuse(
     offline: bool = False,
     *,
     temp_c: Optional[ArrayLike] = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     **params: Any,
 ) -> F64: ...
 def fuse_full(
@@ -60,6 +62,8 @@ def fuse_full(
     offline: bool = False,
     *,
     temp_c: Optional[ArrayLike] = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     **params: Any,
 ) -> Dict[str, Any]: ...
 
@@ -72,6 +76,8 @@ class Filter:
         filter: Optional[str] = None,
         lever_arm: Optional[Sequence[float]] = None,
         calibration: Union[Calibration, PathLike, None] = None,
+        gyro_range: Optional[float] = None,
+        acc_range: Optional[float] = None,
         **params: Any,
     ) -> None: ...
     def update(
@@ -105,6 +111,8 @@ def evaluate(
     *,
     lever_arm: Optional[Sequence[float]] = None,
     offline: bool = False,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     jobs: Optional[int] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
@@ -134,6 +142,8 @@ def summarize(
     lever_arm: Optional[Sequence[float]] = None,
     offline: bool = False,
     calibration: Union[Calibration, PathLike, None] = None,
+    gyro_range: Optional[float] = None,
+    acc_range: Optional[float] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
     rate: Optional[float] = None,
