@@ -73,7 +73,7 @@ use clino::core::compensate::{LeverArm, MountOptions};
 use clino::core::filter::DynamicParams;
 use clino::core::{Attitude, AttitudeFilter, ImuSample, Vec3};
 use clino::eval::inclination_error;
-use clino::fusion::{FilterKind, FilterSpec, Pipeline, parse_spec};
+use clino::fusion::{FilterKind, FilterSpec, Pipeline, SensorRange, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams, duty_clock};
 use clino::sim::motion::{Drum, Offset, Sum, vibration};
@@ -93,6 +93,9 @@ struct Rec {
     rest: Vec<bool>,
     /// Lever arm to compensate (slewing machine), m.
     lever: Option<Vec3>,
+    /// The sensor's full-scale ranges, as its user knows them (simulated:
+    /// the model's; BROAD: not known). VQF is not told.
+    range: SensorRange,
 }
 
 fn rmse(rec: &Rec, est: &[Attitude]) -> f64 {
@@ -150,7 +153,13 @@ fn run_vqf(rec: &Rec) -> Vec<Attitude> {
 }
 
 fn run_clino(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
-    run_pipeline(rec, Pipeline::new(*spec).with_lever_arm(rec.lever)).0
+    run_pipeline(
+        rec,
+        Pipeline::new(*spec)
+            .with_lever_arm(rec.lever)
+            .with_sensor_range(rec.range),
+    )
+    .0
 }
 
 /// The dynamic filter with the online accelerometer-bias estimator (and the
@@ -165,7 +174,12 @@ fn run_mount(rec: &Rec, spec: &FilterSpec, auto: bool) -> (Vec<Attitude>, Option
         },
         ..Default::default()
     };
-    run_pipeline(rec, Pipeline::new(*spec).with_mount_estimator(Some(opts)))
+    run_pipeline(
+        rec,
+        Pipeline::new(*spec)
+            .with_mount_estimator(Some(opts))
+            .with_sensor_range(rec.range),
+    )
 }
 
 fn run_pipeline(rec: &Rec, mut p: Pipeline) -> (Vec<Attitude>, Option<(Vec3, Vec3)>) {
@@ -202,6 +216,7 @@ fn run_offline(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
         &SmoothOptions {
             params,
             lever_arm_m: rec.lever,
+            sensor_range: rec.range,
             ..Default::default()
         },
     )
@@ -230,6 +245,10 @@ fn simulate(
         scored,
         rest,
         lever,
+        range: SensorRange::from_full_scale(
+            model.accel.range / clino::core::G0,
+            model.gyro.range.to_degrees(),
+        ),
     }
 }
 
@@ -266,6 +285,9 @@ enum Sensor {
     /// datasheet gives ±2 %): an error no diagonal scale or bias model holds,
     /// what a calibration of scale and bias alone leaves behind.
     CrossAxis,
+    /// The calibrated sensor with its gyro at ±2000 °/s (its accelerometer
+    /// stays at ±2 g).
+    WideGyro,
     /// A board warming up after power-on, 3 °C a minute throughout: the
     /// biases drift with the MPU6050's temperature coefficients (gyro
     /// 0.08 °/s, accelerometer 0.5–0.86 mg per °C), 0.48 °/s and 3–5 mg
@@ -284,6 +306,7 @@ impl Sensor {
             Sensor::ScaleBoth => "gyro±2%+acc±5%",
             Sensor::CrossAxis => "xaxis1.5%",
             Sensor::WarmUp => "warm-up",
+            Sensor::WideGyro => "gyro2000dps",
         }
     }
     fn model(self, rate: f64) -> ImuModel {
@@ -302,6 +325,7 @@ impl Sensor {
                 m.accel.scale = Vec3::new(0.05, -0.05, 0.03);
             }
             Sensor::WarmUp => m.temperature.rate_c_per_s = 0.05,
+            Sensor::WideGyro => m.gyro.range = 2000f64.to_radians(),
             Sensor::CrossAxis => {
                 // asymmetric: a misalignment (antisymmetric part) and a
                 // non-orthogonality (symmetric part) at once
@@ -342,6 +366,12 @@ enum Kind {
     /// speed) and a physiological tremor throughout (9 Hz, 0.1 m/s²,
     /// 1°/s).
     Held,
+    /// The hand motion at twice its speed (peaks of 4–8 rad/s, 2 g): an
+    /// MPU6050 at its power-on ranges (±250 °/s, ±2 g) clips its gyro in
+    /// the fast turns.
+    Hand2x,
+    /// The hand motion at three times its speed (peaks of 6–13 rad/s, 4 g).
+    Hand3x,
     /// The hand motion turning a segment about a joint 0.25 m from the
     /// sensor (a chain of segments moved by hand, a sensor on an arm): the
     /// sensor's tangential and centripetal accelerations turn with it
@@ -368,6 +398,8 @@ impl Kind {
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
             Kind::Arm => "hand,arm0.25m",
+            Kind::Hand2x => "hand,2x",
+            Kind::Hand3x => "hand,3x",
             Kind::Drum => "drum",
             Kind::Slewing => "slewing+lever",
             Kind::SlewingSway => "slewing+sway+lever",
@@ -447,6 +479,8 @@ fn make(c: &Condition, seed: u64) -> Rec {
             )
         }
         Kind::Hand
+        | Kind::Hand2x
+        | Kind::Hand3x
         | Kind::Slow
         | Kind::SlowVib
         | Kind::SlowBoom
@@ -457,6 +491,12 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 Kind::Held => HandParams::held(),
                 _ => HandParams::by_hand(),
             };
+            let speed = match c.kind {
+                Kind::Hand2x => 2.0,
+                Kind::Hand3x => 3.0,
+                _ => 1.0,
+            };
+            p.band_hz = (p.band_hz.0 * speed, p.band_hz.1 * speed);
             if let Kind::ShortRests = c.kind {
                 p.rest_s = 1.0;
             }
@@ -594,6 +634,7 @@ fn retimed(rec: &Rec, x: f64) -> Rec {
         scored: rec.scored.clone(),
         rest: rec.rest.clone(),
         lever: rec.lever,
+        range: rec.range,
     }
 }
 
@@ -758,6 +799,7 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
                 scored: (0..n).filter(pick).map(|k| rec.scored[k]).collect(),
                 rest: (0..n).filter(pick).map(|k| rec.rest[k]).collect(),
                 lever: None,
+                range: rec.range,
             };
             d += rmse(&sub, &run_clino(&sub, dynamic));
             o += rmse(&sub, &run_offline(&sub, dynamic));
@@ -776,6 +818,7 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
                 scored: (0..n).map(|k| rec.scored[k] && keep[k]).collect(),
                 rest: rec.rest.clone(),
                 lever: None,
+                range: rec.range,
             };
             v += rmse(&full, &run_vqf(&full));
         }
@@ -846,6 +889,7 @@ fn load_broad(path: &PathBuf) -> clino::Result<Rec> {
         scored: vec![],
         rest: vec![],
         lever: None,
+        range: SensorRange::default(),
     };
     let mut moved = false;
     while let Some(row) = r.next_row()? {
@@ -1119,6 +1163,9 @@ fn main() -> clino::Result<()> {
         (Kind::SlowBoom, Sensor::WarmUp, 125.0),
         (Kind::SlowVib, Sensor::GyroScale, 125.0),
         (Kind::SlowVib, Sensor::CrossAxis, 25.0),
+        (Kind::Hand2x, Sensor::Calibrated, 40.0),
+        (Kind::Hand2x, Sensor::Calibrated, 100.0),
+        (Kind::Hand3x, Sensor::WideGyro, 100.0),
         (Kind::Drum, Sensor::Calibrated, 100.0),
         (Kind::Drum, Sensor::GyroScale, 100.0),
         (Kind::Drum, Sensor::GyroScale, 25.0),

@@ -461,7 +461,7 @@ fn fuse_rows(
                 }
             })
             .collect();
-        let outs = offline_outputs(config, &samples)?;
+        let outs = offline_outputs(config, &samples, calibration.is_some())?;
         for (k, o) in outs.iter().enumerate() {
             put(k, o);
         }

@@ -295,11 +295,12 @@ pub struct FilterConfig {
     /// recording when this is set.
     pub offline: bool,
     /// The sensor's full-scale ranges (`--gyro-range`, `--acc-range`):
-    /// readings at a range are counted as clipped and a clipped gyro is
-    /// known to the real-time dynamic filter ([`Pipeline::with_sensor_range`]).
-    /// The offline smoother counts them and is not told: its forward and
-    /// backward passes see each clipped turn from both sides (told as the
-    /// real-time filter is, it did worse: BENCHMARKS.md). Default: not known.
+    /// readings at a range are counted as clipped and the dynamic filter is
+    /// told ([`Pipeline::with_sensor_range`]); offline, its passes too, and
+    /// they are weighted by how long ago each crossed a clipped rate
+    /// ([`crate::smooth::SmoothOptions::sensor_range`]; with a calibration,
+    /// which moves the gyro's rails, the passes are not told). Default: not
+    /// known.
     pub sensor_range: SensorRange,
 }
 
@@ -455,15 +456,19 @@ impl FilterConfig {
         for s in samples {
             held.push(s);
         }
-        let q = self.smooth_held(&mut held, None)?;
+        let q = self.smooth_held(&mut held, false, None)?;
         Ok(held.expand(&q).collect())
     }
 
     /// The smoother over a [`HeldRecording`] (its usable samples; the lever-arm
-    /// compensation is written over its specific forces).
+    /// compensation is written over its specific forces). `calibrated`: the
+    /// samples held were calibrated, which moved the gyro's rails, so the
+    /// passes are not told the sensor's range (its clipped readings are
+    /// counted from the raw rows).
     fn smooth_held(
         &self,
         held: &mut HeldRecording,
+        calibrated: bool,
         progress: Option<crate::smooth::Progress<'_>>,
     ) -> Result<Vec<Attitude>> {
         self.validate()?;
@@ -494,6 +499,11 @@ impl FilterConfig {
         let opts = crate::smooth::SmoothOptions {
             params,
             lever_arm_m,
+            sensor_range: if calibrated {
+                SensorRange::default()
+            } else {
+                self.sensor_range
+            },
             ..Default::default()
         };
         held.finish_intervals();
@@ -868,7 +878,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         }
         progress(FuseProgress::Read(rows));
         let mut tell = |stage, k, n| progress(FuseProgress::Smooth(stage, k, n));
-        let qs = config.smooth_held(&mut held, Some(&mut tell))?;
+        let qs = config.smooth_held(&mut held, opts.calibration.is_some(), Some(&mut tell))?;
         for (t, o) in held.outputs(&qs) {
             // unusable rows were counted as they were read
             if matches!(o.status, Status::Waiting | Status::Fused) {
@@ -907,12 +917,18 @@ pub fn fuse_into<R: Read, S: RowSink>(
 /// [`clino_core::pipeline::admission`] refuses the sample (the attitude
 /// held), `waiting` before the first usable one, `fused` elsewhere. The one
 /// rule for files ([`fuse`]) and arrays ([`crate::batch::fuse_arrays`]).
-pub fn offline_outputs(config: &FilterConfig, samples: &[ImuSample]) -> Result<Vec<Output>> {
+/// `calibrated`: the samples were calibrated (their gyro rails moved: the
+/// passes are not told the sensor's range).
+pub fn offline_outputs(
+    config: &FilterConfig,
+    samples: &[ImuSample],
+    calibrated: bool,
+) -> Result<Vec<Output>> {
     let mut held = HeldRecording::default();
     for s in samples {
         held.push(s);
     }
-    let q = config.smooth_held(&mut held, None)?;
+    let q = config.smooth_held(&mut held, calibrated, None)?;
     Ok(held.outputs(&q).map(|(_, o)| o).collect())
 }
 
