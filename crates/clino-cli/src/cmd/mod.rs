@@ -280,13 +280,14 @@ pub struct StageArgs {
     #[arg(long)]
     pub offline: bool,
     /// The gyro's full-scale range, °/s (an MPU6050 powers on at 250). A rate read at it
-    /// is clipped: counted, and the real-time dynamic filter realigns on the accelerometer
-    /// after it and learns no scale error from the clipped turn (offline: counted only).
-    /// `clino stream` takes the board's own ranges when this is not given.
+    /// is clipped: counted, and the dynamic filter realigns on the accelerometer after it and
+    /// learns no scale error from the clipped turn. `clino stream` takes the board's own
+    /// ranges when this is not given.
     #[arg(long, value_name = "DEG_S", allow_hyphen_values = true)]
     pub gyro_range: Option<f64>,
     /// The accelerometer's full-scale range, g (an MPU6050 powers on at 2). A specific force
-    /// read at it is clipped and counted.
+    /// read at it is clipped: counted, and the dynamic filter forgets the part beyond the
+    /// range within a second.
     #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub acc_range: Option<f64>,
 }
