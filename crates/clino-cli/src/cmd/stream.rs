@@ -300,7 +300,16 @@ fn open_source(a: &Args) -> anyhow::Result<Box<dyn SampleSource + Send>> {
 
 /// Run `clino stream`.
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let filter = super::filter_config(&a.filter, &a.gains, &a.stages)?;
+    let mut filter = super::filter_config(&a.filter, &a.gains, &a.stages)?;
+    // an MPU6050 on I²C is read at the ranges set here: a reading at one is
+    // clipped (a board over serial names its own in its CONFIG)
+    if a.i2c.is_some() && filter.sensor_range == clino::fusion::SensorRange::default() {
+        let d = clino::io::source::I2cOptions::default();
+        filter = filter.with_sensor_range(clino::fusion::SensorRange::from_full_scale(
+            f64::from(a.accel_fs.unwrap_or(d.accel_range.g())),
+            f64::from(a.gyro_fs.unwrap_or(d.gyro_range.dps())),
+        ));
+    }
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
         None => None,
