@@ -158,6 +158,15 @@
 //!   where holding the next sample's rate over it missed the turn in
 //!   between; the gap does not change the sample period (`GAP_PERIODS`).
 //!
+//! * **Clipped readings.** Where the sensor's ranges are known (the
+//!   pipeline's `with_sensor_range`), a gyro read at its range fell short of
+//!   the turn: no rest pair spans it, the loop learns nothing until the next
+//!   rest and the tilt realigns as at power-on (`Dynamic::note_gyro_clipped`;
+//!   unknown to the filter, the shortfall was learnt as a 6 % gyro scale
+//!   error); an accelerometer read at its range left a step out of the
+//!   velocity residual, which then leaks at ≥ 1 rad/s for 3 s
+//!   (`Dynamic::note_acc_clipped`).
+//!
 //! * **The sensor's delay.** The gyro carries the attitude from the instant
 //!   one sample stands for to the next one's, as the accelerometer sees it;
 //!   the attitude reported is carried on over the sensor's own delay
@@ -2248,7 +2257,7 @@ impl Dynamic {
     /// does at power-on, whose attitude is as unknown: the loop runs at no
     /// less than 1/`start_time_s` and the next rest proper aligns at
     /// `start_bandwidth_rad_s`; the next short rest or held pose pulls at
-    /// full weight ([`CLIPPED_TILT_SIGMA_RAD`]); no rest pair spans the
+    /// full weight (`CLIPPED_TILT_SIGMA_RAD`); no rest pair spans the
     /// clipping (its miss is not a scale error) and the loop's corrections
     /// teach neither bias nor scale until the next rest.
     pub fn note_gyro_clipped(&mut self) {
@@ -2268,11 +2277,11 @@ impl Dynamic {
     /// to be given: the specific force beyond the range is missing from the
     /// velocity residual's integral, an unknown step Δv that the loop would
     /// turn into k_θ·Δv/(g·k_u) of tilt over its own time constant (1/k_u,
-    /// 3–5 s). For [`CLIP_LEAK_HOLD_S`] after the last clipped sample the
-    /// residual leaks at no less than [`CLIP_LEAK_RAD_S`], so the step is
+    /// 3–5 s). For `CLIP_LEAK_HOLD_S` (3 s) after the last clipped sample the
+    /// residual leaks at no less than `CLIP_LEAK_RAD_S` (1 rad/s), so the step is
     /// forgotten within a second, before it becomes tilt; the residual's
     /// tilt evidence is built again after. A hand at three times its speed
-    /// through an MPU6050's power-on ±2 g (100 Hz, 17 % of samples clipped):
+    /// through an MPU6050's power-on ±2 g (100 Hz, seeds 1–4, 17 % of samples clipped):
     /// 1.15° → 0.76° (VQF 1.02°; BENCHMARKS.md).
     pub fn note_acc_clipped(&mut self) {
         self.acc_clip_time = CLIP_LEAK_HOLD_S;
