@@ -13,7 +13,7 @@ use crate::dials::Dial;
 use crate::serial::{Frame, send_frame};
 use crate::source::{MicrosClock, Mpu6050Source, Reading};
 use clino_core::filter::FilterSpec;
-use clino_core::pipeline::{Output, Pipeline};
+use clino_core::pipeline::{Output, Pipeline, SensorRange};
 use clino_core::{ImuSample, tilt::RollPitch};
 use embedded_hal::i2c::I2c;
 use embedded_hal::pwm::SetDutyCycle;
@@ -47,6 +47,22 @@ impl<R: SetDutyCycle, P: SetDutyCycle> Instrument<R, P> {
     /// filter at its defaults, no calibration, no lever arm.
     pub fn dynamic(roll: Dial<R>, pitch: Dial<P>) -> Self {
         Self::new(Pipeline::new(FilterSpec::default()), roll, pitch)
+    }
+
+    /// [`Instrument::dynamic`] for an MPU6050 read at `config`'s full-scale
+    /// ranges: a reading at a range is clipped, counted, and the filter is
+    /// told (`Pipeline::with_sensor_range`; the power-on ±250 °/s and ±2 g
+    /// are exceeded by a brisk hand).
+    pub fn dynamic_at(config: &clino_mpu6050::Config, roll: Dial<R>, pitch: Dial<P>) -> Self {
+        let range = SensorRange::from_full_scale(
+            f64::from(config.accel_range.g()),
+            f64::from(config.gyro_range.dps()),
+        );
+        Self::new(
+            Pipeline::new(FilterSpec::default()).with_sensor_range(range),
+            roll,
+            pitch,
+        )
     }
 
     /// The pipeline (its counts, attitude, tilt).
@@ -222,6 +238,30 @@ mod tests {
         assert_eq!(ins.roll_dial().pulse_us(), Some(1472));
         ins.step(&ImuSample::new(2.6, Vec3::zeros(), f));
         assert_eq!(ins.roll_dial().pulse_us(), Some(1781));
+    }
+
+    #[test]
+    fn a_reading_at_the_configured_range_is_counted_as_clipped() {
+        // ±2 g, ±250 °/s: the gyro's rail (32767 counts at 131 LSB/(°/s)) is
+        // clipped; the same reading at ±2000 °/s is not
+        let t = ServoTiming::default();
+        let rail = (32767.0f64 / 131.0).to_radians();
+        for (gyro_range, clipped) in [
+            (clino_mpu6050::GyroRange::Dps250, 1),
+            (clino_mpu6050::GyroRange::Dps2000, 0),
+        ] {
+            let config = clino_mpu6050::Config {
+                gyro_range,
+                ..Default::default()
+            };
+            let mut ins =
+                Instrument::dynamic_at(&config, Dial::new(Pwm(0), t), Dial::new(Pwm(0), t));
+            let f = Vec3::new(0.0, 0.0, G0);
+            ins.step(&ImuSample::new(0.0, Vec3::zeros(), f));
+            let out = ins.step(&ImuSample::new(0.01, Vec3::new(rail, 0.0, 0.0), f));
+            assert_eq!(out.status, Status::Fused);
+            assert_eq!(ins.pipeline().counts().gyro_clipped, clipped);
+        }
     }
 
     #[test]

@@ -76,7 +76,8 @@ fn main() -> ! {
         delay.delay_ms(1000);
     }
     let timing = ServoTiming::default();
-    let mut instrument = Instrument::dynamic(Dial::new(roll, timing), Dial::new(pitch, timing));
+    let mut instrument =
+        Instrument::dynamic_at(&config, Dial::new(roll, timing), Dial::new(pitch, timing));
     let _ = send_frame(
         &mut tx,
         &Frame::Config {
