@@ -490,6 +490,33 @@ fn the_sensor_range_counts_clipped_readings_and_is_checked() {
         .unwrap_or_else(|| panic!("{e}"));
     assert!(n > 0 && e.contains(", 0 accelerometer"), "{e}");
     assert_ne!(plain.stdout, narrow.stdout);
+    // the first such row is named by its line (1-based, comments counted)
+    let rail = 500f64.to_radians() * (1.0 - 1e-3);
+    let first = excerpt()
+        .lines()
+        .enumerate()
+        .skip_while(|(_, l)| l.starts_with('#') || l.starts_with("t_s"))
+        .find(|(_, l)| {
+            l.split(',')
+                .skip(1)
+                .take(3)
+                .any(|x| x.parse::<f64>().is_ok_and(|w| w.abs() >= rail))
+        })
+        .map(|(i, _)| i + 1)
+        .unwrap();
+    assert!(
+        e.contains(&format!("(first at line {first})")),
+        "{first}: {e}"
+    );
+    // offline: the same rows counted, the same first line
+    let off = clino(&["fuse", &input, "--offline", "--gyro-range", "500"]);
+    assert!(off.status.success(), "{}", stderr(&off));
+    let eo = stderr(&off);
+    assert!(
+        eo.contains(&format!("clipped at the sensor's range: {n} gyro"))
+            && eo.contains(&format!("(first at line {first})")),
+        "{eo}"
+    );
     // eval takes the flags too
     let ev = clino(&["eval", &input, "-f", "dynamic", "--gyro-range", "500"]);
     assert!(ev.status.success(), "{}", stderr(&ev));

@@ -176,16 +176,36 @@ pub struct Counts {
     /// Samples whose accelerometer read at its full-scale range (as
     /// `gyro_clipped`).
     pub acc_clipped: u64,
+    /// The first sample with a reading at a range: its number among the
+    /// samples counted, from 1.
+    pub first_clipped: Option<u64>,
 }
 
 impl Counts {
-    /// Count the readings of `s` at the ranges `range`; whether its gyro
-    /// and its accelerometer read at them ([`SensorRange::clipped`]).
-    pub fn record_clipping(&mut self, range: &SensorRange, s: &ImuSample) -> (bool, bool) {
+    /// Count the readings of `s`, sample `number` (from 1), at the ranges
+    /// `range`; whether its gyro and its accelerometer read at them
+    /// ([`SensorRange::clipped`]).
+    pub fn record_clipping(
+        &mut self,
+        range: &SensorRange,
+        s: &ImuSample,
+        number: u64,
+    ) -> (bool, bool) {
         let (gyro, acc) = range.clipped(s);
         self.gyro_clipped += u64::from(gyro);
         self.acc_clipped += u64::from(acc);
+        if gyro || acc {
+            self.first_clipped.get_or_insert(number);
+        }
         (gyro, acc)
+    }
+
+    /// The clipped readings `other` counted, in place of these (a run's
+    /// statuses counted apart from the pipeline that counted its clipping).
+    pub fn take_clipping(&mut self, other: &Counts) {
+        self.gyro_clipped = other.gyro_clipped;
+        self.acc_clipped = other.acc_clipped;
+        self.first_clipped = other.first_clipped;
     }
 
     /// Count one sample of status `s`.
@@ -496,7 +516,8 @@ impl Pipeline {
             return why;
         }
         // the sensor's own reading, before calibration moved its rails
-        let (gyro_clipped, acc_clipped) = self.counts.record_clipping(&self.range, sample);
+        let number = self.counts.samples + 1;
+        let (gyro_clipped, acc_clipped) = self.counts.record_clipping(&self.range, sample, number);
         if let Some(d) = self.filter.as_dynamic_mut() {
             if gyro_clipped {
                 d.note_gyro_clipped();
@@ -703,6 +724,7 @@ mod tests {
         assert_eq!(p.update(&bump).status, Status::Fused);
         let c = p.counts();
         assert_eq!((c.gyro_clipped, c.acc_clipped, c.fused), (1, 1, 2));
+        assert_eq!(c.first_clipped, Some(2));
         // a calibration moves the readings, not the rails: the raw sample is judged
         let mut cal = Pipeline::new(FilterSpec::default())
             .with_sensor_range(r)

@@ -438,7 +438,9 @@ fn fuse_rows(
         for k in 0..n {
             let s = arrays.sample(k);
             if clino_core::pipeline::admission(&s).is_none() {
-                report.counts.record_clipping(&config.sensor_range, &s);
+                report
+                    .counts
+                    .record_clipping(&config.sensor_range, &s, k as u64 + 1);
             }
         }
     }
@@ -470,8 +472,7 @@ fn fuse_rows(
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
         run_rows(&mut p, arrays, put);
-        let pc = p.counts();
-        (report.counts.gyro_clipped, report.counts.acc_clipped) = (pc.gyro_clipped, pc.acc_clipped);
+        report.counts.take_clipping(p.counts());
         // what `clino fuse` reports of a real-time run, from the same pipeline
         report.mount = p.mount_estimator().map(crate::fusion::MountReport::of);
         report.sensor_errors = p
@@ -479,6 +480,10 @@ fn fuse_rows(
             .as_dynamic()
             .map(crate::fusion::SensorErrorReport::of);
     }
+    report.first_clipped_line = report
+        .counts
+        .first_clipped
+        .map(|n| arrays.first_row + n - 1);
     Ok(report)
 }
 

@@ -614,6 +614,9 @@ pub struct FuseReport {
     pub counts: Counts,
     /// Line of the first dropout or saturated row.
     pub first_dropout_line: Option<u64>,
+    /// Line of the first row with a reading at the sensor's range
+    /// ([`FilterConfig::sensor_range`]).
+    pub first_clipped_line: Option<u64>,
     /// The online accelerometer-bias and lever-arm estimates at the end of
     /// a real-time run, when the configuration makes them.
     pub mount: Option<MountReport>,
@@ -861,9 +864,12 @@ pub fn fuse_into<R: Read, S: RowSink>(
             check(reader, &row)?;
             read(&mut rows);
             if clino_core::pipeline::admission(&row.sample).is_none() {
-                report
+                let (g, a) = report
                     .counts
-                    .record_clipping(&config.sensor_range, &row.sample);
+                    .record_clipping(&config.sensor_range, &row.sample, rows);
+                if g || a {
+                    report.first_clipped_line.get_or_insert(row.line);
+                }
             }
             let s = match opts.calibration {
                 Some(c) if !row.has_dropout() => c.calibration().apply(&row.sample),
@@ -902,10 +908,12 @@ pub fn fuse_into<R: Read, S: RowSink>(
             return Err(dropout_error(reader, &row, o.status));
         }
         report.add(o.status, row.line);
+        if report.first_clipped_line.is_none() && pipeline.counts().first_clipped.is_some() {
+            report.first_clipped_line = Some(row.line);
+        }
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
-    let pc = pipeline.counts();
-    (report.counts.gyro_clipped, report.counts.acc_clipped) = (pc.gyro_clipped, pc.acc_clipped);
+    report.counts.take_clipping(pipeline.counts());
     report.mount = pipeline.mount_estimator().map(MountReport::of);
     report.sensor_errors = pipeline.filter().as_dynamic().map(SensorErrorReport::of);
     Ok(report)

@@ -454,11 +454,7 @@ impl Consumer<'_, '_> {
         }
         let o = self.pipeline.update(s);
         self.counts.pipeline.record(o.status);
-        let pc = self.pipeline.counts();
-        (
-            self.counts.pipeline.gyro_clipped,
-            self.counts.pipeline.acc_clipped,
-        ) = (pc.gyro_clipped, pc.acc_clipped);
+        self.counts.pipeline.take_clipping(self.pipeline.counts());
         if let Some(csv) = self.outputs.csv.as_mut() {
             csv.row(s.t_s, &o)?;
         }

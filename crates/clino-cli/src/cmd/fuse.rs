@@ -139,18 +139,23 @@ fn summary(rep: &FuseReport, label: &str) -> String {
         rep.first_dropout_line
             .map(|l| format!(", first at line {l}"))
             .unwrap_or_default(),
-        clipped(&rep.counts)
+        clipped(rep)
     )
 }
 
 /// The clipped readings, when the sensor's ranges were given and any were.
-fn clipped(c: &clino::fusion::Counts) -> String {
+fn clipped(rep: &FuseReport) -> String {
+    let c = &rep.counts;
     if c.gyro_clipped + c.acc_clipped == 0 {
         return String::new();
     }
     format!(
-        "; clipped at the sensor's range: {} gyro, {} accelerometer",
-        c.gyro_clipped, c.acc_clipped
+        "; clipped at the sensor's range: {} gyro, {} accelerometer{}",
+        c.gyro_clipped,
+        c.acc_clipped,
+        rep.first_clipped_line
+            .map(|l| format!(" (first at line {l})"))
+            .unwrap_or_default()
     )
 }
 
