@@ -14,6 +14,10 @@
 //!   physical bounds [`MAX_RATE_RAD_S`] or [`MAX_SPECIFIC_FORCE_M_S2`] is
 //!   *saturated*. Neither reaches the filter or the differentiator; the
 //!   state is held and the attitude of the sample before is reported.
+//! * **Clipping** (optional, [`Pipeline::with_sensor_range`]): a usable
+//!   sample whose raw gyro or accelerometer reads within [`CLIP_MARGIN`] of
+//!   the sensor's full-scale range is clipped: counted, and the dynamic
+//!   filter is told before it takes the sample.
 //! * **Time step**: `dt` is the time from the last sample the filter *used*
 //!   to this one, so the interval of a dropout is carried into the next
 //!   usable sample (the gyro integrates across the gap). A time stamp that is

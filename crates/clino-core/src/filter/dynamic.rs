@@ -526,6 +526,8 @@ pub struct Dynamic {
     /// The gyro clipped since the last rest proper ended: short rests and
     /// held poses pull at `start_bandwidth_rad_s`.
     clip_realign: bool,
+    /// Time left of the velocity residual's faster leak after a clipped
+    /// accelerometer, s ([`Dynamic::note_acc_clipped`]).
     acc_clip_time: f64,
     rest_ref: Vec3,
     bias_info_s: f64,
@@ -664,7 +666,8 @@ type V9 = nalgebra::SVector<f64, 9>;
 /// The velocity residual's least leak after a clipped accelerometer, rad/s
 /// ([`Dynamic::note_acc_clipped`]): a one-second memory, the length of the
 /// bump or swing that clipped, against the loop's 3–5 s. A hand at three
-/// times its speed through ±2 g at 100 Hz (`probe`, seeds 1–4): 1.15° with
+/// times its speed through ±2 g at 100 Hz (a throw-away probe, seeds 1–4,
+/// BENCHMARKS.md): 1.15° with
 /// the loop's own leak, 1.05° at 0.5 rad/s, 0.76° at 1, 0.57° at 2;
 /// unchanged where a few samples clip (at twice the speed, 24 of 48 000).
 const CLIP_LEAK_RAD_S: f64 = 1.0;
@@ -675,7 +678,7 @@ const CLIP_LEAK_HOLD_S: f64 = 3.0;
 
 /// The tilt error a clipped gyro may have left, 1σ, rad (6°): a hand's turn
 /// at 2× an MPU6050's default ±250°/s range, clipped for a tenth of a
-/// second, falls 25° short. Only its size against the accelerometer's
+/// second, falls 23° short. Only its size against the accelerometer's
 /// remaining doubt matters ([`ScaleLearner::rest_trust`]): the next rest
 /// pull is at full weight.
 const CLIPPED_TILT_SIGMA_RAD: f64 = 0.1;
