@@ -179,7 +179,8 @@ def fuse(
         the accelerometer after it and learns no scale error from the clipped turn.
         None (default): not known.
     acc_range : float, g — the accelerometer's full-scale range, likewise (MPU6050: 2);
-        a specific force read at it is clipped and counted.
+        a specific force read at it is clipped: counted, and the dynamic filter
+        forgets the part beyond the range within a second.
     **params : filter parameters by key, with or without unit suffix
         (``bandwidth=0.2`` for ``bandwidth_rad_s``); a key the filter does not read
         is an error.
