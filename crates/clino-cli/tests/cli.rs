@@ -517,6 +517,41 @@ fn the_sensor_range_counts_clipped_readings_and_is_checked() {
             && eo.contains(&format!("(first at line {first})")),
         "{eo}"
     );
+    // a recording clipped at ±500 °/s without the range given: the repeated
+    // rail is pointed out; with it, not
+    let rail = 500f64.to_radians();
+    let clipped: String = excerpt()
+        .lines()
+        .map(|l| {
+            let mut f: Vec<String> = l.split(',').map(str::to_string).collect();
+            for x in f.iter_mut().skip(1).take(3) {
+                if let Ok(w) = x.parse::<f64>() {
+                    *x = w.clamp(-rail, rail).to_string();
+                }
+            }
+            f.join(",") + "\n"
+        })
+        .collect();
+    let cin = write(&d, "clipped.csv", &clipped);
+    let hinted = clino(&["fuse", &cin]);
+    assert!(hinted.status.success(), "{}", stderr(&hinted));
+    assert!(
+        stderr(&hinted).contains("the gyro's largest reading, 500.0 °/s")
+            && stderr(&hinted).contains("`--gyro-range 500`"),
+        "{}",
+        stderr(&hinted)
+    );
+    let told = clino(&["fuse", &cin, "--gyro-range", "500"]);
+    assert!(
+        !stderr(&told).contains("largest reading"),
+        "{}",
+        stderr(&told)
+    );
+    assert!(
+        !stderr(&plain).contains("largest reading"),
+        "{}",
+        stderr(&plain)
+    );
     // eval takes the flags too
     let ev = clino(&["eval", &input, "-f", "dynamic", "--gyro-range", "500"]);
     assert!(ev.status.success(), "{}", stderr(&ev));

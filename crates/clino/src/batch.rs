@@ -484,6 +484,12 @@ fn fuse_rows(
         .counts
         .first_clipped
         .map(|n| arrays.first_row + n - 1);
+    for k in 0..n {
+        let s = arrays.sample(k);
+        if clino_core::pipeline::admission(&s).is_none() {
+            report.rails.push(&s);
+        }
+    }
     Ok(report)
 }
 

@@ -623,6 +623,64 @@ pub struct FuseReport {
     /// What the dynamic filter learnt from rest to rest (real-time runs of
     /// `dynamic` only).
     pub sensor_errors: Option<SensorErrorReport>,
+    /// Each triad's largest reading and the rows that read it: a rail, when
+    /// it repeats ([`Rails::suspected`]).
+    pub rails: Rails,
+}
+
+/// Each triad's largest reading (the largest magnitude of its three axes)
+/// and how many rows read exactly it. A sensor clipped at its range reads
+/// its rail again and again; one that is not reaches its largest value on
+/// one row, or a few at a peak sampled finely. A recording fused without
+/// the sensor's ranges whose rails repeat was most likely clipped
+/// ([`FilterConfig::sensor_range`] would tell the filter).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Rails {
+    /// The gyro's largest reading, rad/s, and the rows that read it.
+    pub gyro_rad_s: f64,
+    /// Rows whose gyro read `gyro_rad_s` on some axis.
+    pub gyro_rows: u64,
+    /// The accelerometer's largest reading, m/s².
+    pub acc_m_s2: f64,
+    /// Rows whose accelerometer read `acc_m_s2` on some axis.
+    pub acc_rows: u64,
+}
+
+/// Rows at a triad's largest reading that make it a suspected rail: ten
+/// (a peak sampled at 1 kHz stays within one count of its top for a few
+/// samples, and noise of a count or more splits them).
+pub const RAIL_ROWS: u64 = 10;
+
+impl Rails {
+    /// Take one usable sample.
+    pub fn push(&mut self, s: &ImuSample) {
+        let top = |v: &Vec3| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for (v, max, rows) in [
+            (&s.gyr_rad_s, &mut self.gyro_rad_s, &mut self.gyro_rows),
+            (&s.acc_m_s2, &mut self.acc_m_s2, &mut self.acc_rows),
+        ] {
+            let m = top(v);
+            if m > *max {
+                (*max, *rows) = (m, 1);
+            } else if m == *max && m > 0.0 {
+                *rows += 1;
+            }
+        }
+    }
+
+    /// The suspected rails (gyro rad/s, accelerometer m/s²): a largest
+    /// reading repeated on [`RAIL_ROWS`] rows or more, at least 1.5 rad/s
+    /// (86 °/s; the narrowest MEMS gyro range is ±125 °/s) or 1.5 g (the
+    /// narrowest accelerometer range is ±2 g): a still sensor repeats its
+    /// small largest reading at every count.
+    pub fn suspected(&self) -> (Option<f64>, Option<f64>) {
+        let at =
+            |max: f64, rows: u64, least: f64| (rows >= RAIL_ROWS && max >= least).then_some(max);
+        (
+            at(self.gyro_rad_s, self.gyro_rows, 1.5),
+            at(self.acc_m_s2, self.acc_rows, 1.5 * clino_core::G0),
+        )
+    }
 }
 
 /// The sensor errors the dynamic filter learnt from rest to rest
@@ -864,6 +922,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
             check(reader, &row)?;
             read(&mut rows);
             if clino_core::pipeline::admission(&row.sample).is_none() {
+                report.rails.push(&row.sample);
                 let (g, a) = report
                     .counts
                     .record_clipping(&config.sensor_range, &row.sample, rows);
@@ -906,6 +965,9 @@ pub fn fuse_into<R: Read, S: RowSink>(
         let o = pipeline.update(&row.sample);
         if opts.strict && matches!(o.status, Status::Dropout | Status::Saturated) {
             return Err(dropout_error(reader, &row, o.status));
+        }
+        if clino_core::pipeline::admission(&row.sample).is_none() {
+            report.rails.push(&row.sample);
         }
         report.add(o.status, row.line);
         if report.first_clipped_line.is_none() && pipeline.counts().first_clipped.is_some() {
@@ -1208,6 +1270,44 @@ mod tests {
             "{n_told:?}"
         );
         assert!(told < 0.8 * blind, "{told}° told, {blind}° not");
+    }
+
+    #[test]
+    fn a_repeated_largest_reading_is_a_suspected_rail() {
+        // the hand at twice its speed through ±250 °/s and ±2 g, 100 Hz: the
+        // gyro's rail repeats; at its own speed at 1 kHz, and still, nothing is
+        // suspected (a still sensor repeats a small largest reading)
+        use crate::sim::hand::{HandMotion, HandParams};
+        let rails = |speed: f64, rate: f64| {
+            let mut p = HandParams::by_hand();
+            p.band_hz = (p.band_hz.0 * speed, p.band_hz.1 * speed);
+            let mut model = crate::sim::slewing::sensor().with_bandwidth(0.4 * rate);
+            model.gyro.range = 250f64.to_radians();
+            let mut r = Rails::default();
+            for x in model.simulate(&HandMotion::new(p, 2), rate, 60.0, 2) {
+                r.push(&x);
+            }
+            r
+        };
+        let clipped = rails(2.0, 100.0);
+        assert_eq!(
+            clipped.suspected().0,
+            Some(250f64.to_radians()),
+            "{clipped:?}"
+        );
+        let fine = rails(1.0, 1000.0);
+        assert_eq!(fine.suspected(), (None, None), "{fine:?}");
+        let mut still = Rails::default();
+        for k in 0..1000 {
+            let w = Vec3::new(0.001 * f64::from(k % 3), 0.0, 0.0);
+            still.push(&ImuSample::new(
+                k as f64 * 0.01,
+                w,
+                Vec3::new(0.0, 0.0, 9.81),
+            ));
+        }
+        assert!(still.gyro_rows > RAIL_ROWS, "{still:?}");
+        assert_eq!(still.suspected(), (None, None));
     }
 
     #[test]

@@ -143,6 +143,30 @@ fn summary(rep: &FuseReport, label: &str) -> String {
     )
 }
 
+/// A hint, when a triad whose range was not given repeats its largest
+/// reading ([`clino::fusion::Rails::suspected`]): it was most likely clipped.
+fn rail_hint(rep: &FuseReport, range: &clino::fusion::SensorRange) -> Option<String> {
+    let (g, a) = rep.rails.suspected();
+    let mut said = Vec::new();
+    if let (Some(v), false) = (g, range.gyro_rad_s.is_finite()) {
+        said.push(format!(
+            "the gyro's largest reading, {:.1} °/s, is on {} rows: clipped at its range? `--gyro-range {:.0}` tells the filter",
+            v.to_degrees(),
+            rep.rails.gyro_rows,
+            v.to_degrees()
+        ));
+    }
+    if let (Some(v), false) = (a, range.acc_m_s2.is_finite()) {
+        said.push(format!(
+            "the accelerometer's largest reading, {:.2} g, is on {} rows: clipped at its range? `--acc-range {:.0}` tells the filter",
+            v / clino::core::G0,
+            rep.rails.acc_rows,
+            v / clino::core::G0
+        ));
+    }
+    (!said.is_empty()).then(|| format!("clino fuse: {}", said.join("; ")))
+}
+
 /// The clipped readings, when the sensor's ranges were given and any were.
 fn clipped(rep: &FuseReport) -> String {
     let c = &rep.counts;
@@ -213,5 +237,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("{}", sensor_error_summary(e));
     }
     eprintln!("{}", summary(&rep, &config.label()));
+    if let Some(hint) = rail_hint(&rep, &config.sensor_range) {
+        eprintln!("{hint}");
+    }
     Ok(())
 }
