@@ -552,6 +552,17 @@ fn the_sensor_range_counts_clipped_readings_and_is_checked() {
         "{}",
         stderr(&plain)
     );
+    // the accelerometer's range: the excerpt reads up to 2.15 g, so ±2 g
+    // clips some rows and changes the attitudes
+    let acc2 = clino(&["fuse", &input, "--acc-range", "2"]);
+    assert!(acc2.status.success(), "{}", stderr(&acc2));
+    assert!(stderr(&acc2).contains("0 gyro, "), "{}", stderr(&acc2));
+    assert!(
+        !stderr(&acc2).contains(", 0 accelerometer"),
+        "{}",
+        stderr(&acc2)
+    );
+    assert_ne!(plain.stdout, acc2.stdout);
     // eval takes the flags too
     let ev = clino(&["eval", &input, "-f", "dynamic", "--gyro-range", "500"]);
     assert!(ev.status.success(), "{}", stderr(&ev));

@@ -14,8 +14,8 @@
 //!   physical bounds [`MAX_RATE_RAD_S`] or [`MAX_SPECIFIC_FORCE_M_S2`] is
 //!   *saturated*. Neither reaches the filter or the differentiator; the
 //!   state is held and the attitude of the sample before is reported.
-//! * **Clipping** (optional, [`Pipeline::with_sensor_range`]): a usable
-//!   sample whose raw gyro or accelerometer reads within [`CLIP_MARGIN`] of
+//! * **Clipping** (optional, [`Pipeline::with_sensor_range`]): a sample the
+//!   filter takes whose raw gyro or accelerometer reads within [`CLIP_MARGIN`] of
 //!   the sensor's full-scale range is clipped: counted, and the dynamic
 //!   filter is told before it takes the sample.
 //! * **Time step**: `dt` is the time from the last sample the filter *used*
@@ -519,17 +519,6 @@ impl Pipeline {
         if let Some(why) = admission(s) {
             return why;
         }
-        // the sensor's own reading, before calibration moved its rails
-        let number = self.counts.samples + 1;
-        let (gyro_clipped, acc_clipped) = self.counts.record_clipping(&self.range, sample, number);
-        if let Some(d) = self.filter.as_dynamic_mut() {
-            if gyro_clipped {
-                d.note_gyro_clipped();
-            }
-            if acc_clipped {
-                d.note_acc_clipped();
-            }
-        }
         let dt = match self.last_t {
             Some(t0) => {
                 let dt = s.t_s - t0;
@@ -540,6 +529,18 @@ impl Pipeline {
             }
             None => None,
         };
+        // a sample the filter takes: the sensor's own reading, before
+        // calibration moved its rails
+        let number = self.counts.samples + 1;
+        let (gyro_clipped, acc_clipped) = self.counts.record_clipping(&self.range, sample, number);
+        if let Some(d) = self.filter.as_dynamic_mut() {
+            if gyro_clipped {
+                d.note_gyro_clipped();
+            }
+            if acc_clipped {
+                d.note_acc_clipped();
+            }
+        }
         let mut acc = s.acc_m_s2;
         let mut rates = None;
         if let (Some(l), Some(dt)) = (&mut self.lever, dt) {
@@ -729,6 +730,12 @@ mod tests {
         let c = p.counts();
         assert_eq!((c.gyro_clipped, c.acc_clipped, c.fused), (1, 1, 2));
         assert_eq!(c.first_clipped, Some(2));
+        // a clipped reading the filter does not take (its time goes back) is
+        // a dropout and not counted as clipped
+        let mut back = turn;
+        back.t_s = 0.005;
+        assert_eq!(p.update(&back).status, Status::Dropout);
+        assert_eq!(p.counts().gyro_clipped, 1);
         // a calibration moves the readings, not the rails: the raw sample is judged
         let mut cal = Pipeline::new(FilterSpec::default())
             .with_sensor_range(r)

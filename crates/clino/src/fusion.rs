@@ -654,12 +654,11 @@ pub const RAIL_ROWS: u64 = 10;
 impl Rails {
     /// Take one usable sample.
     pub fn push(&mut self, s: &ImuSample) {
-        let top = |v: &Vec3| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         for (v, max, rows) in [
             (&s.gyr_rad_s, &mut self.gyro_rad_s, &mut self.gyro_rows),
             (&s.acc_m_s2, &mut self.acc_m_s2, &mut self.acc_rows),
         ] {
-            let m = top(v);
+            let m = v.amax();
             if m > *max {
                 (*max, *rows) = (m, 1);
             } else if m == *max && m > 0.0 {
@@ -921,15 +920,6 @@ pub fn fuse_into<R: Read, S: RowSink>(
         while let Some(row) = reader.next_row()? {
             check(reader, &row)?;
             read(&mut rows);
-            if clino_core::pipeline::admission(&row.sample).is_none() {
-                report.rails.push(&row.sample);
-                let (g, a) = report
-                    .counts
-                    .record_clipping(&config.sensor_range, &row.sample, rows);
-                if g || a {
-                    report.first_clipped_line.get_or_insert(row.line);
-                }
-            }
             let s = match opts.calibration {
                 Some(c) if !row.has_dropout() => c.calibration().apply(&row.sample),
                 _ => row.sample,
@@ -939,6 +929,16 @@ pub fn fuse_into<R: Read, S: RowSink>(
                     return Err(dropout_error(reader, &row, st));
                 }
                 report.add(st, row.line);
+            } else {
+                // a row the smoother takes, judged by its raw reading as the
+                // real-time pipeline judges it
+                report.rails.push(&row.sample);
+                let (g, a) = report
+                    .counts
+                    .record_clipping(&config.sensor_range, &row.sample, rows);
+                if g || a {
+                    report.first_clipped_line.get_or_insert(row.line);
+                }
             }
         }
         progress(FuseProgress::Read(rows));
@@ -966,7 +966,8 @@ pub fn fuse_into<R: Read, S: RowSink>(
         if opts.strict && matches!(o.status, Status::Dropout | Status::Saturated) {
             return Err(dropout_error(reader, &row, o.status));
         }
-        if clino_core::pipeline::admission(&row.sample).is_none() {
+        // the rows the pipeline judged for clipping: all it did not refuse
+        if !matches!(o.status, Status::Dropout | Status::Saturated) {
             report.rails.push(&row.sample);
         }
         report.add(o.status, row.line);

@@ -1606,6 +1606,27 @@ mod tests {
     }
 
     #[test]
+    fn the_weighted_combination_is_the_weighted_mean_of_the_up_vectors() {
+        // forward tilted 10° about x, backward 4° about y: weight 1 keeps the
+        // forward up vector, 0 takes the backward one, ½ is `combine`, and
+        // 0.3 points along the normalised 0.3·u_f + 0.7·u_b
+        let qf = Attitude::from_scaled_axis(Vec3::new(10f64.to_radians(), 0.0, 0.3));
+        let qb = Attitude::from_scaled_axis(Vec3::new(0.0, 4f64.to_radians(), 0.3));
+        let (uf, ub) = (up_in_body(&qf), up_in_body(&qb));
+        let up = |w: f64| up_in_body(&combine_weighted(&qf, &qb, w));
+        assert!((up(1.0) - uf).norm() < 1e-12);
+        assert!((up(0.0) - ub).norm() < 1e-12);
+        assert_eq!(combine(&qf, &qb), combine_weighted(&qf, &qb, 0.5));
+        let want = (uf * 0.3 + ub * 0.7).normalize();
+        assert!((up(0.3) - want).norm() < 1e-12, "{:?} {want:?}", up(0.3));
+        // opposite up vectors have no mean: the forward attitude
+        let across = uf.cross(&Vec3::x()).normalize();
+        let flip = qf * Attitude::from_scaled_axis(across * core::f64::consts::PI);
+        assert!((up_in_body(&flip) + uf).norm() < 1e-12);
+        assert_eq!(combine_weighted(&qf, &flip, 0.5), qf);
+    }
+
+    #[test]
     fn a_clipped_gyro_is_smoothed_from_the_quiet_side_and_jumps_in_the_refinement() {
         // The hand at twice its speed through an MPU6050 at its power-on
         // ±250 °/s, 40 Hz, seeds 1–8. Told of the clipped rates, the passes
