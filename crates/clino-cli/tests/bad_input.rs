@@ -3,13 +3,14 @@
 //! file (and the line, for a defect in a row) with a non-zero exit — never a
 //! panic, never a message that echoes megabytes, never a half-written output.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 mod common;
 
 use common::clino;
 use std::process::Output;
+use tempfile::TempDir;
 
-fn scratch(name: &str) -> PathBuf {
+fn scratch(name: &str) -> TempDir {
     common::scratch("bad-input", name)
 }
 
@@ -497,8 +498,9 @@ fn commands(dir: &Path) -> Vec<Cmd> {
 
 #[test]
 fn every_command_that_reads_a_file_meets_the_bad_input_matrix() {
-    let root = scratch("matrix");
-    for c in commands(&root) {
+    let tmp = scratch("matrix");
+    let root = tmp.path();
+    for c in commands(root) {
         let dir = root.join(c.name.replace(' ', "-"));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("valid.csv"), &c.base).unwrap();

@@ -2,8 +2,9 @@
 //! non-physical input refused with its location, flags that change the result,
 //! and warnings where a number cannot be trusted.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
+use tempfile::TempDir;
 
 fn clino(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_clino"))
@@ -12,12 +13,13 @@ fn clino(args: &[&str]) -> Output {
         .expect("run clino")
 }
 
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("clino-cli-bsr-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory for one test, removed when the value is dropped
+/// (at the end of the test, passed or failed).
+fn scratch(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("clino-cli-bsr-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
@@ -36,9 +38,10 @@ fn stdout(o: &Output) -> String {
 
 #[test]
 fn survey_refuses_a_non_physical_station_with_its_location() {
-    let d = scratch("survey");
+    let tmp = scratch("survey");
+    let d = tmp.path();
     let f = write(
-        &d,
+        d,
         "st.csv",
         "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n\
          100,0.5,0.2,-9.79,20,1,40\n\
@@ -56,7 +59,8 @@ fn survey_refuses_a_non_physical_station_with_its_location() {
 
 #[test]
 fn calibrate_refuses_a_non_physical_cell_before_the_solver() {
-    let d = scratch("calib");
+    let tmp = scratch("calib");
+    let d = tmp.path();
     let mut text = String::from("t_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n");
     for k in 0..40 {
         let v = if k == 9 {
@@ -66,7 +70,7 @@ fn calibrate_refuses_a_non_physical_cell_before_the_solver() {
         };
         text += &format!("{},{v},0.2,9.8\n", k as f64 * 0.1);
     }
-    let f = write(&d, "rec.csv", &text);
+    let f = write(d, "rec.csv", &text);
     let out = d.join("cal.toml");
     let o = clino(&[
         "calibrate",
@@ -135,7 +139,8 @@ fn orbit_platform_and_servo_flags_change_the_result() {
 /// platform.
 #[test]
 fn flags_that_did_nothing_are_refused() {
-    let d = scratch("flags");
+    let tmp = scratch("flags");
+    let d = tmp.path();
     let f = d.join("r.csv");
     for extra in [["--json"].as_slice(), &["--plot", "x.svg"], &["--platform"]] {
         let mut args = vec!["testbench", "record", f.to_str().unwrap()];
@@ -150,7 +155,8 @@ fn flags_that_did_nothing_are_refused() {
 
 #[test]
 fn analyze_with_the_wrong_excitation_is_an_error() {
-    let d = scratch("analyze");
+    let tmp = scratch("analyze");
+    let d = tmp.path();
     let cone = d.join("cone.csv");
     let orb = d.join("orbit.csv");
     let common = [
@@ -275,8 +281,9 @@ fn six_pose_recording(dir: &Path) -> String {
 
 #[test]
 fn six_position_prints_parameters_with_one_sigma() {
-    let d = scratch("six");
-    let f = six_pose_recording(&d);
+    let tmp = scratch("six");
+    let d = tmp.path();
+    let f = six_pose_recording(d);
     let out = d.join("cal.toml");
     let o = clino(&[
         "calibrate",
@@ -317,8 +324,9 @@ fn six_position_prints_parameters_with_one_sigma() {
 
 #[test]
 fn a_plot_that_cannot_be_written_keeps_the_calibration() {
-    let d = scratch("plotpath");
-    let f = six_pose_recording(&d);
+    let tmp = scratch("plotpath");
+    let d = tmp.path();
+    let f = six_pose_recording(d);
     let out = d.join("cal.toml");
     // a name that cannot be a plot is refused before the fit, nothing written
     let missing = d.join("no-such-dir").join("p.svg");
@@ -505,12 +513,13 @@ fn a_wrong_choice_lists_the_possible_values() {
 
 #[test]
 fn the_old_spellings_are_still_accepted() {
-    let d = scratch("spell");
+    let tmp = scratch("spell");
+    let d = tmp.path();
     let mut text = String::from("t_s,gyr_x,gyr_y,gyr_z,acc_x,acc_y,acc_z\n");
     for k in 0..50 {
         text += &format!("{},0,0,0,0,0,1\n", k as f64 * 0.01);
     }
-    let f = write(&d, "bare.csv", &text);
+    let f = write(d, "bare.csv", &text);
     let mut outs = Vec::new();
     for (gu, au) in [("deg/s", "g"), ("dps", "G"), ("deg_s", "g"), ("DEG/S", "g")] {
         let o = clino(&[

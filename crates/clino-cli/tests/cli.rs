@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use tempfile::TempDir;
 
 const HEAD: &str = "t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n";
 
@@ -12,12 +13,13 @@ fn clino(args: &[&str]) -> Output {
         .expect("run clino")
 }
 
-/// A fresh scratch directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("clino-cli-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory for one test, removed when the value is dropped
+/// (at the end of the test, passed or failed).
+fn scratch(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("clino-cli-test-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
@@ -52,8 +54,9 @@ fn demo_prints_every_filter() {
 
 #[test]
 fn fuse_writes_one_row_per_input_row_to_stdout_and_file() {
-    let d = scratch("fuse");
-    let input = write(&d, "in.csv", excerpt());
+    let tmp = scratch("fuse");
+    let d = tmp.path();
+    let input = write(d, "in.csv", excerpt());
     let o = clino(&["fuse", &input, "--filter", "madgwick", "--beta", "0.05"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = String::from_utf8(o.stdout.clone()).unwrap();
@@ -93,11 +96,12 @@ fn fuse_writes_one_row_per_input_row_to_stdout_and_file() {
 
 #[test]
 fn fuse_reports_nan_rows_and_strict_refuses_them() {
-    let d = scratch("nan");
+    let tmp = scratch("nan");
+    let d = tmp.path();
     let text = format!(
         "# c\n{HEAD}0,0,0,0,0,0,9.8\n0.01,0,nan,0,0,0,9.8\n0.02,0,0,0,0,0,9.8\n0.03,0,0,0,NaN,0,9.8\n"
     );
-    let input = write(&d, "nan.csv", &text);
+    let input = write(d, "nan.csv", &text);
     let o = clino(&["fuse", &input, "-f", "mahony"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("2 with NaN"), "{}", stderr(&o));
@@ -114,7 +118,8 @@ fn fuse_reports_nan_rows_and_strict_refuses_them() {
 /// applies) column, never a panic.
 #[test]
 fn bad_inputs_fail_cleanly_with_location() {
-    let d = scratch("bad");
+    let tmp = scratch("bad");
+    let d = tmp.path();
     let cases: Vec<(&str, String, Vec<&str>)> = vec![
         (
             "missing.csv",
@@ -150,7 +155,7 @@ fn bad_inputs_fail_cleanly_with_location() {
         ),
     ];
     for (name, text, wants) in cases {
-        let input = write(&d, name, &text);
+        let input = write(d, name, &text);
         for sub in [vec!["fuse", input.as_str()], vec!["eval", input.as_str()]] {
             let o = clino(&sub);
             let e = stderr(&o);
@@ -166,7 +171,7 @@ fn bad_inputs_fail_cleanly_with_location() {
         }
     }
     // Bad options.
-    let good = write(&d, "good.csv", &format!("{HEAD}0,0,0,0,0,0,9.8\n"));
+    let good = write(d, "good.csv", &format!("{HEAD}0,0,0,0,0,0,9.8\n"));
     for args in [
         vec!["fuse", good.as_str(), "--filter", "kalman"],
         vec!["fuse", good.as_str(), "--k", "2"],
@@ -193,10 +198,11 @@ fn bad_inputs_fail_cleanly_with_location() {
 
 #[test]
 fn eval_scores_a_directory_and_prints_json() {
-    let d = scratch("eval");
-    write(&d, "b.csv", excerpt());
-    write(&d, "a.csv", excerpt());
-    write(&d, "notes.txt", "not a recording");
+    let tmp = scratch("eval");
+    let d = tmp.path();
+    write(d, "b.csv", excerpt());
+    write(d, "a.csv", excerpt());
+    write(d, "notes.txt", "not a recording");
     let o = clino(&[
         "eval",
         d.to_str().unwrap(),
@@ -314,8 +320,9 @@ fn static_rows(n: usize, t0: f64) -> String {
 
 #[test]
 fn allan_and_static_read_comments_and_ignore_unused_nan_columns() {
-    let d = scratch("allan-broad");
-    let input = write(&d, "broad.csv", excerpt());
+    let tmp = scratch("allan-broad");
+    let d = tmp.path();
+    let input = write(d, "broad.csv", excerpt());
     let o = clino(&["allan", &input, "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -333,11 +340,12 @@ fn allan_and_static_read_comments_and_ignore_unused_nan_columns() {
 
 #[test]
 fn allan_and_static_refuse_gaps_and_short_records_with_the_file() {
-    let d = scratch("allan-gaps");
+    let tmp = scratch("allan-gaps");
+    let d = tmp.path();
     let mut text = format!("# rest\n{HEAD}");
     text.push_str(&static_rows(300, 0.0));
     text.push_str(&static_rows(500, 103.0)); // 100-s gap after t = 2.99 s
-    let input = write(&d, "gap.csv", &text);
+    let input = write(d, "gap.csv", &text);
     for args in [
         vec!["allan", input.as_str()],
         vec!["testbench", "static", input.as_str()],
@@ -363,7 +371,7 @@ fn allan_and_static_refuse_gaps_and_short_records_with_the_file() {
     assert_eq!(v["samples"], 500);
     assert!((v["rate_hz"].as_f64().unwrap() - 100.0).abs() < 1e-6);
     // too short: the error names the file
-    let short = write(&d, "short.csv", &format!("{HEAD}{}", static_rows(26, 0.0)));
+    let short = write(d, "short.csv", &format!("{HEAD}{}", static_rows(26, 0.0)));
     let o = clino(&["allan", &short]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
@@ -375,8 +383,9 @@ fn allan_and_static_refuse_gaps_and_short_records_with_the_file() {
 
 #[test]
 fn allan_explains_a_constant_channel() {
-    let d = scratch("allan-const");
-    let input = write(&d, "c.csv", &format!("{HEAD}{}", static_rows(2000, 0.0)));
+    let tmp = scratch("allan-const");
+    let d = tmp.path();
+    let input = write(d, "c.csv", &format!("{HEAD}{}", static_rows(2000, 0.0)));
     let o = clino(&["allan", &input, "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
@@ -400,9 +409,10 @@ fn allan_explains_a_constant_channel() {
 
 #[test]
 fn a_negative_gain_is_a_value_with_a_range_error_not_an_unknown_flag() {
-    let d = scratch("neg-gain");
+    let tmp = scratch("neg-gain");
+    let d = tmp.path();
     let input = write(
-        &d,
+        d,
         "in.csv",
         &format!("{HEAD}0,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n"),
     );
@@ -430,8 +440,9 @@ fn demo_json_gives_the_scores_as_numbers() {
 
 #[test]
 fn lever_arm_auto_estimates_and_changes_the_result_and_jobs_keep_the_table() {
-    let d = scratch("lever-auto");
-    let input = write(&d, "in.csv", excerpt());
+    let tmp = scratch("lever-auto");
+    let d = tmp.path();
+    let input = write(d, "in.csv", excerpt());
     let plain = clino(&["fuse", &input]);
     let auto = clino(&["fuse", &input, "--lever-arm", "auto"]);
     assert!(
@@ -469,8 +480,9 @@ fn lever_arm_auto_estimates_and_changes_the_result_and_jobs_keep_the_table() {
 #[test]
 fn the_sensor_range_counts_clipped_readings_and_is_checked() {
     // BROAD trial 07's excerpt turns at up to 1385 °/s and reads up to 2.2 g
-    let d = scratch("range");
-    let input = write(&d, "in.csv", excerpt());
+    let tmp = scratch("range");
+    let d = tmp.path();
+    let input = write(d, "in.csv", excerpt());
     let plain = clino(&["fuse", &input]);
     let wide = clino(&["fuse", &input, "--gyro-range", "2000", "--acc-range", "16"]);
     let narrow = clino(&["fuse", &input, "--gyro-range", "500", "--acc-range", "16"]);
@@ -532,7 +544,7 @@ fn the_sensor_range_counts_clipped_readings_and_is_checked() {
             f.join(",") + "\n"
         })
         .collect();
-    let cin = write(&d, "clipped.csv", &clipped);
+    let cin = write(d, "clipped.csv", &clipped);
     let hinted = clino(&["fuse", &cin]);
     assert!(hinted.status.success(), "{}", stderr(&hinted));
     assert!(

@@ -7,14 +7,15 @@ mod common;
 use common::clino;
 use std::path::PathBuf;
 use std::process::Command;
+use tempfile::TempDir;
 
 /// The same content under the same file name in two directories: plain, and
 /// with a BOM, comment lines before the header and between rows, and CRLF.
-fn variants(test: &str, text: &str) -> (PathBuf, PathBuf) {
-    let base = std::env::temp_dir().join(format!("clino-one-reader-{}-{test}", std::process::id()));
-    let (a, b) = (base.join("plain"), base.join("dressed"));
+/// Both lie in the returned scratch directory, removed when it is dropped.
+fn variants(test: &str, text: &str) -> (TempDir, PathBuf, PathBuf) {
+    let base = common::scratch("one-reader", test);
+    let (a, b) = (base.path().join("plain"), base.path().join("dressed"));
     for d in [&a, &b] {
-        let _ = std::fs::remove_dir_all(d);
         std::fs::create_dir_all(d).unwrap();
     }
     let plain: String = text
@@ -32,7 +33,7 @@ fn variants(test: &str, text: &str) -> (PathBuf, PathBuf) {
     }
     std::fs::write(a.join("rec.csv"), plain).unwrap();
     std::fs::write(b.join("rec.csv"), dressed).unwrap();
-    (a.join("rec.csv"), b.join("rec.csv"))
+    (base, a.join("rec.csv"), b.join("rec.csv"))
 }
 
 fn same_output(args: &[&str], a: &PathBuf, b: &PathBuf) {
@@ -84,7 +85,7 @@ const EXCERPT: &str = include_str!("../../clino/data/broad_07_excerpt.csv");
 
 #[test]
 fn fuse_eval_allan_and_static_ignore_comments_bom_and_crlf() {
-    let (a, b) = variants("imu", EXCERPT);
+    let (_base, a, b) = variants("imu", EXCERPT);
     same_output(&["fuse", "{}"], &a, &b);
     same_output(&["fuse", "{}", "--filter", "mahony:kp=0.5"], &a, &b);
     same_output(&["eval", "{}", "-f", "dynamic,madgwick"], &a, &b);
@@ -95,7 +96,7 @@ fn fuse_eval_allan_and_static_ignore_comments_bom_and_crlf() {
 fn calibration_and_survey_recordings_read_comments_too() {
     // a `#` line used to make `calibrate` say "the recording needs a time column"
     let rec = common::accel_poses_csv();
-    let (a, b) = variants("calib", &rec);
+    let (_base, a, b) = variants("calib", &rec);
     same_output(
         &["calibrate", "accel", "{}", "--output", "{out}", "--json"],
         &a,
@@ -103,15 +104,14 @@ fn calibration_and_survey_recordings_read_comments_too() {
     );
     let stations = "md_m,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2,mag_x_uT,mag_y_uT,mag_z_uT\n\
                     100,0.5,0.3,9.79,20,1,-40\n200,0.9,0.2,9.75,19,3,-41\n300,1.5,0.1,9.68,18,4,-41\n";
-    let (a, b) = variants("survey", stations);
+    let (_base, a, b) = variants("survey", stations);
     same_output(&["survey", "{}", "--json"], &a, &b);
 }
 
 #[test]
 fn parquet_in_and_out_equals_the_csv_path_to_the_last_bit() {
-    let d = std::env::temp_dir().join(format!("clino-parquet-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+    let tmp = common::scratch("parquet", "csv-path");
+    let d = tmp.path();
     let csv_in = d.join("in.csv");
     std::fs::write(&csv_in, EXCERPT).unwrap();
     let p = |n: &str| d.join(n).to_str().unwrap().to_string();
@@ -193,7 +193,8 @@ fn fuse_behind_a_pipe_answers_each_row_as_it_arrives() {
 #[cfg(target_os = "linux")]
 #[test]
 fn an_output_under_dev_is_written_in_place() {
-    let d = common::scratch("one-reader", "dev-stdout");
+    let tmp = common::scratch("one-reader", "dev-stdout");
+    let d = tmp.path();
     let input = d.join("in.csv");
     std::fs::write(&input, "t_s,x\n0,1.5\n1,2.5\n").unwrap();
     let out = d.join("out.csv");
@@ -216,5 +217,4 @@ fn an_output_under_dev_is_written_in_place() {
         std::fs::read_to_string(&out).unwrap(),
         "before\nt_s,x\n0.0,1.5\n1.0,2.5\n"
     );
-    std::fs::remove_dir_all(&d).unwrap();
 }

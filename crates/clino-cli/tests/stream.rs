@@ -12,15 +12,19 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clino_core::protocol::{self, Frame};
+use tempfile::TempDir;
 
 fn vector_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../firmware/protocol")
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("clino-stream-test-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory for one test, removed when the value is dropped
+/// (at the end of the test, passed or failed).
+fn tmp(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("clino-stream-test-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// The frames of frames.bin, each with its delimiter: [CONFIG, SAMPLE 0, SAMPLE 1, …].
@@ -236,7 +240,8 @@ fn a_pty_board_with_faults_gives_exactly_the_surviving_samples() {
         }
         survivors.push(lines[k + 1].clone());
     }
-    let dir = tmp("pty");
+    let scratch = tmp("pty");
+    let dir = scratch.path();
     let expected_csv = dir.join("survivors.csv");
     std::fs::write(&expected_csv, survivors.join("\n") + "\n").unwrap();
     let record = dir.join("rec.csv");
@@ -343,7 +348,8 @@ fn a_board_reset_mid_stream_is_reported_and_time_goes_on() {
 
 #[test]
 fn a_wrong_baud_rate_is_named_and_a_lost_port_is_reopened() {
-    let dir = tmp("baud");
+    let scratch = tmp("baud");
+    let dir = scratch.path();
     let link = dir.join("board");
     let pty = openpty();
     std::os::unix::fs::symlink(&pty.path, &link).unwrap();
@@ -391,7 +397,8 @@ fn a_wrong_baud_rate_is_named_and_a_lost_port_is_reopened() {
 fn replay_at_speed_equals_fuse_sample_for_sample() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../clino/data/broad_07_excerpt.csv");
     let vec_csv = vector_dir().join("frames.csv");
-    let dir = tmp("replay");
+    let scratch = tmp("replay");
+    let dir = scratch.path();
     for (file, filter) in [
         (&data, "dynamic"),
         (&vec_csv, "mahony:kp=0.5"),

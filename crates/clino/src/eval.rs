@@ -823,8 +823,11 @@ mod tests {
 
     #[test]
     fn parallel_evaluation_is_ordered_and_equal_to_one_thread() {
-        let dir = std::env::temp_dir().join(format!("clino-eval-par-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::Builder::new()
+            .prefix("clino-eval-par-")
+            .tempdir()
+            .unwrap();
+        let dir = tmp.path().to_path_buf();
         for (k, tilt) in [3.0f64, 1.0, 2.0, 5.0].iter().enumerate() {
             let (s, c) = (tilt.to_radians().sin(), tilt.to_radians().cos());
             let mut text = String::from(HEAD);
@@ -878,6 +881,5 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.file.as_ref().unwrap().ends_with("r1.csv"), "{e}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -617,8 +617,11 @@ fn fuse_file(path: &std::path::Path, filter: &FilterConfig) -> String {
 
 #[test]
 fn the_stream_loop_over_the_sensor_writes_what_fuse_writes_on_its_samples() {
-    let dir = std::env::temp_dir().join(format!("clino-i2c-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("clino-i2c-test-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let n = 1500; // 15 s at 100 Hz: the filter initialises and tracks the rotation
     let make = || {
         let clock = VirtualClock::default();

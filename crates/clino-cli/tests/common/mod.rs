@@ -1,8 +1,8 @@
 //! Helpers shared by the CLI's integration tests (each test binary uses a part).
 #![allow(dead_code)]
 
-use std::path::PathBuf;
 use std::process::{Command, Output};
+use tempfile::TempDir;
 
 /// Run the `clino` binary under test.
 pub fn clino(args: &[&str]) -> Output {
@@ -12,12 +12,14 @@ pub fn clino(args: &[&str]) -> Output {
         .expect("run clino")
 }
 
-/// A fresh scratch directory for one test.
-pub fn scratch(suite: &str, name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("clino-{suite}-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory for one test, removed when the value is dropped
+/// (at the end of the test, passed or failed): keep it bound for as long as
+/// its path is used.
+pub fn scratch(suite: &str, name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("clino-{suite}-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// A continuous accelerometer recording through 12 static poses (2 s each,

@@ -417,9 +417,11 @@ mod tests {
         let mut r = Recording::from_reader(csv.as_bytes()).unwrap();
         // as `calibrate apply` leaves it: new triad values
         r.acc.as_mut().unwrap()[1] = Vec3::new(0.125, -0.5, 9.80665);
-        let d = std::env::temp_dir().join(format!("clino-rec-save-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        let (pc, pp) = (d.join("out.csv"), d.join("out.parquet"));
+        let d = tempfile::Builder::new()
+            .prefix("clino-rec-save-")
+            .tempdir()
+            .unwrap();
+        let (pc, pp) = (d.path().join("out.csv"), d.path().join("out.parquet"));
         r.save(&pc, &[]).unwrap();
         r.save(&pp, &[]).unwrap();
         let (c, p) = (Recording::load(&pc).unwrap(), Recording::load(&pp).unwrap());
@@ -434,7 +436,6 @@ mod tests {
         let e = r.save(&pc, &[&pc]).unwrap_err();
         assert_eq!(e.file.as_deref(), Some(pc.as_path()));
         assert_eq!(Recording::load(&pc).unwrap().acc, r.acc);
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]

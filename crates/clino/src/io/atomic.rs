@@ -18,9 +18,8 @@ use crate::{Error, ErrorKind, Result};
 ///
 /// ```
 /// use std::io::Write;
-/// let dir = std::env::temp_dir().join(format!("clino-atomic-doc-{}", std::process::id()));
-/// std::fs::create_dir_all(&dir).unwrap();
-/// let path = dir.join("out.csv");
+/// let dir = tempfile::tempdir().unwrap(); // removed when dropped
+/// let path = dir.path().join("out.csv");
 /// std::fs::write(&path, "old\n").unwrap();
 /// {
 ///     let mut f = clino::io::AtomicFile::create(&path, &[]).unwrap();
@@ -32,7 +31,6 @@ use crate::{Error, ErrorKind, Result};
 /// f.write_all(b"new\n").unwrap();
 /// f.commit().unwrap();
 /// assert_eq!(std::fs::read_to_string(&path).unwrap(), "new\n");
-/// # std::fs::remove_dir_all(&dir).unwrap();
 /// ```
 pub struct AtomicFile {
     dest: PathBuf,
@@ -248,16 +246,19 @@ impl Drop for AtomicFile {
 mod tests {
     use super::*;
 
-    fn scratch(name: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("clino-atomic-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        d
+    /// A fresh scratch directory, removed when the value is dropped (at the
+    /// end of the test, passed or failed).
+    fn scratch(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("clino-atomic-{name}-"))
+            .tempdir()
+            .unwrap()
     }
 
     #[test]
     fn many_chunks_arrive_whole_and_in_order() {
-        let d = scratch("chunks");
+        let tmp = scratch("chunks");
+        let d = tmp.path();
         let p = d.join("big.bin");
         let data: Vec<u8> = (0..3 * CHUNK + 12345)
             .map(|i| (i * 7 % 251) as u8)
@@ -270,18 +271,18 @@ mod tests {
         f.commit().unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), data);
         assert_eq!(
-            std::fs::read_dir(&d).unwrap().count(),
+            std::fs::read_dir(d).unwrap().count(),
             1,
             "no temporary file left"
         );
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[cfg(target_os = "linux")]
     #[test]
     fn a_named_pipe_is_written_in_place_not_replaced() {
         use std::os::unix::fs::FileTypeExt;
-        let d = scratch("fifo");
+        let tmp = scratch("fifo");
+        let d = tmp.path();
         let p = d.join("pipe");
         let ok = std::process::Command::new("mkfifo").arg(&p).status();
         if !ok.is_ok_and(|s| s.success()) {
@@ -298,7 +299,6 @@ mod tests {
         assert_eq!(reader.join().unwrap(), b"through the pipe\n");
         let kind = std::fs::symlink_metadata(&p).unwrap().file_type();
         assert!(kind.is_fifo(), "the pipe was replaced by {kind:?}");
-        std::fs::remove_dir_all(&d).unwrap();
     }
 
     #[cfg(target_os = "linux")]

@@ -373,8 +373,11 @@ mod tests {
     use super::*;
     #[test]
     fn writes_svg_and_png_with_log_axes() {
-        let dir = std::env::temp_dir().join(format!("clino-report-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = tempfile::Builder::new()
+            .prefix("clino-report-")
+            .tempdir()
+            .unwrap();
+        let dir = tmp.path();
         let s = vec![
             Series::line(
                 "a",

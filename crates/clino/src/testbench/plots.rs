@@ -110,11 +110,12 @@ mod tests {
     fn writes_a_conical_svg() {
         let cfg = ConicalConfig::new(0.1, vec![0.5, 2.0], ImuModel::ideal(), "poisson");
         let pts = run_conical(&cfg, &mut |_, _| {}).unwrap();
-        let dir = std::env::temp_dir().join(format!("clino-tbplot-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join("c.svg");
+        let dir = tempfile::Builder::new()
+            .prefix("clino-tbplot-")
+            .tempdir()
+            .unwrap();
+        let p = dir.path().join("c.svg");
         conical_plot(&p, &pts).unwrap();
         assert!(std::fs::read_to_string(&p).unwrap().contains("<svg"));
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

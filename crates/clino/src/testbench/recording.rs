@@ -667,9 +667,11 @@ mod tests {
             damping: 0.5,
         };
         let (f, rate) = (3.0, 200.0);
-        let dir = std::env::temp_dir().join(format!("clino-tb-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("cone.csv");
+        let dir = tempfile::Builder::new()
+            .prefix("clino-tb-")
+            .tempdir()
+            .unwrap();
+        let path = dir.path().join("cone.csv");
         let m = ImuModel::ideal();
         simulate_lab_recording(
             &path,
@@ -709,14 +711,15 @@ mod tests {
             e.message.contains("no orbit excitation") && e.message.contains("conical"),
             "{e}"
         );
-        std::fs::remove_dir_all(&dir).ok();
     }
 
     #[test]
     fn analyze_a_simulated_orbit_recording() {
-        let dir = std::env::temp_dir().join(format!("clino-tbo-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("orbit.csv");
+        let dir = tempfile::Builder::new()
+            .prefix("clino-tbo-")
+            .tempdir()
+            .unwrap();
+        let path = dir.path().join("orbit.csv");
         let m = ImuModel::ideal();
         simulate_lab_recording(
             &path,
@@ -755,6 +758,5 @@ mod tests {
             e.message.contains("no conical excitation") && e.message.contains("orbit"),
             "{e}"
         );
-        std::fs::remove_dir_all(&dir).ok();
     }
 }
