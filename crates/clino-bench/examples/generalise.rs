@@ -196,12 +196,16 @@ fn run_offline(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
     let gyr: Vec<Vec3> = rec.samples.iter().map(|s| s.gyr_rad_s).collect();
     let acc: Vec<Vec3> = rec.samples.iter().map(|s| s.acc_m_s2).collect();
     let t: Vec<f64> = rec.samples.iter().map(|s| s.t_s).collect();
+    // the steps of the sample clock recovered from the stamps, as
+    // `clino fuse --offline` takes them
+    let mut clock = clino::core::clock::SampleClock::new();
     let dt: Vec<f64> = (0..t.len())
         .map(|k| {
+            let step = clock.step(t[k]);
             if k == 0 {
                 nominal_dt(rec)
             } else {
-                t[k] - t[k - 1]
+                step.unwrap_or(t[k] - t[k - 1])
             }
         })
         .collect();
@@ -833,6 +837,176 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
     }
 }
 
+/// A uniform number in [0, 1) for `k` under `seed` (splitmix64: seeded,
+/// deterministic).
+fn unit(seed: u64, k: u64) -> f64 {
+    let mut z = seed
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(k.wrapping_mul(0xBF58_476D_1CE4_E5B9));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// How a recording's time stamps were made.
+#[derive(Clone, Copy, Debug)]
+enum Stamps {
+    /// The sensor's own sample clock.
+    Sensor,
+    /// Each stamp off by up to ±`x` of a period, uniformly (a host's clock
+    /// read at each sample, to either side).
+    Uniform(f64),
+    /// The host's receive times: each sample late by 0–`x` s (exponential,
+    /// mean x/4, cut at x), never before the one before (an operating
+    /// system's scheduling).
+    Late(f64),
+    /// The host's receive times through a USB serial bridge that sends what
+    /// it holds every `x` s (an FTDI chip's latency timer, 16 ms by
+    /// default): every sample of a packet stamped at its arrival, 0–1 ms
+    /// after the packet, 20 µs apart.
+    Packets(f64),
+}
+
+impl Stamps {
+    fn name(self) -> String {
+        match self {
+            Stamps::Sensor => "the sensor's clock".into(),
+            Stamps::Uniform(x) => format!("±{:.0} % of a period", 100.0 * x),
+            Stamps::Late(x) => format!("late by 0–{:.0} ms", 1e3 * x),
+            Stamps::Packets(x) => format!("USB packets every {:.0} ms", 1e3 * x),
+        }
+    }
+
+    /// The stamps of the sample times `t`.
+    fn apply(self, t: &[f64], seed: u64) -> Vec<f64> {
+        let h = if t.len() > 1 {
+            (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64
+        } else {
+            0.01
+        };
+        let mut out: Vec<f64> = Vec::with_capacity(t.len());
+        let (mut last_packet, mut within) = (f64::NAN, 0.0);
+        for (k, &tk) in t.iter().enumerate() {
+            let u = unit(seed, k as u64);
+            let s = match self {
+                Stamps::Sensor => tk,
+                Stamps::Uniform(x) => tk + x * h * (2.0 * u - 1.0),
+                Stamps::Late(x) => tk + (-(x / 4.0) * (1.0 - u).ln()).min(x),
+                Stamps::Packets(x) => {
+                    let packet = (tk / x).floor() + 1.0;
+                    within = if packet == last_packet {
+                        within + 1.0
+                    } else {
+                        0.0
+                    };
+                    last_packet = packet;
+                    packet * x + 1e-3 * unit(seed ^ 0x5A5A, packet as u64) + 20e-6 * within
+                }
+            };
+            let floor = out.last().map_or(f64::MIN, |p| p + 1e-6);
+            out.push(s.max(floor));
+        }
+        out
+    }
+}
+
+/// Time stamps that are not the sensor's: the calibrated hand at 100 Hz
+/// and the slow arm on a vibrating base at 125 Hz, `dynamic` (real time and
+/// offline) given the stamps as a host made them, VQF its fixed sample
+/// period (the rate a user knows); all scored against the truth at the
+/// sensor's sample times.
+fn stamps_table(seeds: u64, dynamic: &FilterSpec) {
+    println!(
+        "\ntime stamps not made by the sensor's clock: inclination RMSE (on the samples received)"
+    );
+    println!(
+        "{:<20}{:<36}{:>8}{:>10}{:>8}{:>10}{:>10}",
+        "condition", "stamps", "vqf °", "dynamic", "ratio", "as given", "offline"
+    );
+    for (kind, rate) in [(Kind::Hand, 100.0), (Kind::SlowVib, 125.0)] {
+        let c = Condition {
+            name: format!("{}@{rate:.0}Hz cal", kind.name()),
+            kind,
+            sensor: Sensor::Calibrated,
+            rate,
+        };
+        for (stamps, lost) in [
+            (Stamps::Sensor, false),
+            (Stamps::Uniform(0.3), false),
+            (Stamps::Uniform(0.45), false),
+            (Stamps::Late(0.008), false),
+            (Stamps::Packets(0.016), false),
+            (Stamps::Sensor, true),
+            (Stamps::Uniform(0.3), true),
+            (Stamps::Late(0.008), true),
+        ] {
+            let (mut v, mut d, mut g, mut o) = (0.0, 0.0, 0.0, 0.0);
+            for seed in 1..=seeds {
+                let rec = make(&c, seed);
+                let n = rec.samples.len();
+                // every 50th sample lost (after the first)
+                let keep: Vec<bool> = (0..n).map(|k| !lost || k % 50 != 49).collect();
+                let pick = |k: &usize| keep[*k];
+                let t: Vec<f64> = (0..n).filter(pick).map(|k| rec.samples[k].t_s).collect();
+                let mut host = Rec {
+                    samples: (0..n).filter(pick).map(|k| rec.samples[k]).collect(),
+                    truth: (0..n).filter(pick).map(|k| rec.truth[k]).collect(),
+                    scored: (0..n).filter(pick).map(|k| rec.scored[k]).collect(),
+                    rest: (0..n).filter(pick).map(|k| rec.rest[k]).collect(),
+                    lever: rec.lever,
+                    range: rec.range,
+                };
+                for (s, ts) in host.samples.iter_mut().zip(stamps.apply(&t, seed)) {
+                    s.t_s = ts;
+                }
+                d += rmse(&host, &run_clino(&host, dynamic));
+                let given = Pipeline::new(*dynamic)
+                    .with_sensor_range(host.range)
+                    .with_sample_clock(false);
+                g += rmse(&host, &run_pipeline(&host, given).0);
+                o += rmse(&host, &run_offline(&host, dynamic));
+                // VQF, whose period is fixed: each lost sample replaced by
+                // the next one received, scored on the samples received
+                let mut filled = rec.samples.clone();
+                for k in (0..n.saturating_sub(1)).rev() {
+                    if !keep[k] {
+                        filled[k] = ImuSample {
+                            t_s: rec.samples[k].t_s,
+                            ..filled[k + 1]
+                        };
+                    }
+                }
+                let full = Rec {
+                    samples: filled,
+                    truth: rec.truth.clone(),
+                    scored: (0..n).map(|k| rec.scored[k] && keep[k]).collect(),
+                    rest: rec.rest.clone(),
+                    lever: rec.lever,
+                    range: rec.range,
+                };
+                v += rmse(&full, &run_vqf(&full));
+            }
+            let k = seeds as f64;
+            let name = if lost {
+                format!("{}, 2 % lost", stamps.name())
+            } else {
+                stamps.name()
+            };
+            println!(
+                "{:<20}{:<36}{:>8.3}{:>10.3}{:>8.2}{:>10.3}{:>10.3}",
+                c.name,
+                name,
+                v / k,
+                d / k,
+                d / v,
+                g / k,
+                o / k
+            );
+        }
+    }
+}
+
 /// Sensors switched on already moving (no initial rest): the calibrated
 /// hand at 40 Hz and the slow arm at 100 Hz, scored from the first sample
 /// (the first 20 s, and the whole 120 s).
@@ -1318,6 +1492,9 @@ fn main() -> clino::Result<()> {
     }
     if only.as_deref().is_none_or(|o| "lost".contains(o)) {
         lost_samples(seeds, &dynamic);
+    }
+    if only.as_deref().is_none_or(|o| "stamps".contains(o)) {
+        stamps_table(seeds, &dynamic);
     }
     if only.as_deref().is_none_or(|o| "started".contains(o)) {
         started_in_motion(seeds, &dynamic);

@@ -8,6 +8,8 @@
 //!   strapdown integration of the Poisson equation, the complementary filter
 //!   of the MPU6050 + Arduino inclinometer, Mahony, Madgwick, and clino's own
 //!   [`filter::Dynamic`] (bounded-velocity tilt loop with bias, rest and rate adaptation);
+//! * [`clock`] — the sensor's sample clock recovered from time stamps a host
+//!   made ([`clock::SampleClock`]);
 //! * [`compensate`] — lever-arm (tangential r·dω/dt and centripetal ω×(ω×r))
 //!   correction of the accelerometer before fusion;
 //! * [`tilt`] — every tilt convention of the field in one place;
@@ -55,6 +57,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod clock;
 pub mod compensate;
 pub mod filter;
 pub(crate) mod math;

@@ -50,6 +50,7 @@
 //! assert!((tilt.roll_rad - roll).abs() < 1e-9);
 //! ```
 
+use crate::clock::SampleClock;
 use crate::compensate::{LeverArm, MountEstimator, MountOptions, lever_arm_acceleration};
 use crate::filter::{AnyFilter, AttitudeFilter, FilterSpec, Step};
 use crate::sensor::Calibration;
@@ -183,6 +184,10 @@ pub struct Counts {
     /// The first sample with a reading at a range: its number among the
     /// samples counted, from 1.
     pub first_clipped: Option<u64>,
+    /// Samples the filter used whose step came from the sample clock
+    /// recovered from the stamps ([`Pipeline::with_sample_clock`]), not
+    /// from the stamps themselves.
+    pub retimed: u64,
 }
 
 impl Counts {
@@ -309,6 +314,11 @@ pub struct Pipeline {
     last_t: Option<f64>,
     counts: Counts,
     range: SensorRange,
+    /// The sensor's sample clock recovered from the stamps (`None`: the
+    /// stamps' own steps), and the recovered time of the samples it took
+    /// since the last one the filter used.
+    clock: Option<SampleClock>,
+    skipped: f64,
 }
 
 impl Pipeline {
@@ -326,7 +336,26 @@ impl Pipeline {
             last_t: None,
             counts: Counts::default(),
             range: SensorRange::default(),
+            clock: Some(SampleClock::new()),
+            skipped: 0.0,
         }
+    }
+
+    /// The same pipeline taking each step from the sensor's sample clock
+    /// recovered from the time stamps (`true`, the default: stamps a host
+    /// made when each sample arrived, off by milliseconds, are put back on
+    /// the sensor's clock; a sensor's own stamps give their own steps to the
+    /// bit, [`crate::clock`]), or from the stamps as they are (`false`).
+    pub fn with_sample_clock(mut self, recover: bool) -> Self {
+        self.clock = recover.then(SampleClock::new);
+        self.skipped = 0.0;
+        self
+    }
+
+    /// The sample clock recovered from the stamps, when recovering
+    /// ([`Pipeline::with_sample_clock`]).
+    pub fn sample_clock(&self) -> Option<&SampleClock> {
+        self.clock.as_ref()
     }
 
     /// The same pipeline knowing the sensor's full-scale ranges, so that a
@@ -477,6 +506,11 @@ impl Pipeline {
     /// next sample's time step is measured from it.
     pub fn set_last_time(&mut self, t_s: f64) {
         self.last_t = Some(t_s);
+        self.skipped = 0.0;
+        if let Some(c) = &mut self.clock {
+            *c = SampleClock::new();
+            c.step(t_s);
+        }
     }
 
     /// Back to the state before the first sample (parameters kept).
@@ -493,6 +527,10 @@ impl Pipeline {
         self.track_accel_input();
         self.last_t = None;
         self.counts = Counts::default();
+        if let Some(c) = &mut self.clock {
+            *c = SampleClock::new();
+        }
+        self.skipped = 0.0;
     }
 
     /// Process one sample.
@@ -519,15 +557,34 @@ impl Pipeline {
         if let Some(why) = admission(s) {
             return why;
         }
+        let mut retimed = false;
         let dt = match self.last_t {
             Some(t0) => {
                 let dt = s.t_s - t0;
                 if dt.is_nan() || dt <= 0.0 {
                     return Status::Dropout;
                 }
-                Some(dt)
+                match &mut self.clock {
+                    // the recovered step, plus those of samples taken since
+                    // the last one the filter used
+                    Some(c) => match c.step(s.t_s) {
+                        Some(step) => {
+                            retimed = c.recovering();
+                            Some(self.skipped + step)
+                        }
+                        // not after a sample the clock took
+                        None => return Status::Dropout,
+                    },
+                    None => Some(dt),
+                }
             }
-            None => None,
+            None => {
+                if let Some(c) = &mut self.clock {
+                    *c = SampleClock::new();
+                    c.step(s.t_s);
+                }
+                None
+            }
         };
         // a sample the filter takes: the sensor's own reading, before
         // calibration moved its rails
@@ -577,6 +634,10 @@ impl Pipeline {
         };
         if status.is_used() {
             self.last_t = Some(s.t_s);
+            self.skipped = 0.0;
+            self.counts.retimed += u64::from(retimed);
+        } else if let Some(dt) = dt {
+            self.skipped = dt;
         }
         if let Some(m) = &mut self.mount {
             match (status, self.filter.as_dynamic_mut(), dt) {

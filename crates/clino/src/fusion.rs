@@ -35,6 +35,7 @@
 
 use std::io::{Read, Write};
 
+use clino_core::clock::SampleClock;
 pub use clino_core::filter::{FilterKind, FilterSpec};
 use clino_core::filter::{ParamError, ParamType};
 pub use clino_core::pipeline::{Counts, Output, Pipeline, SensorRange, Status};
@@ -302,6 +303,13 @@ pub struct FilterConfig {
     /// which moves the gyro's rails, the passes are not told). Default: not
     /// known.
     pub sensor_range: SensorRange,
+    /// Take each step from the sensor's sample clock recovered from the
+    /// time stamps (`true`, the default; `--stamps recover`): stamps a host
+    /// made as each sample arrived, off by milliseconds, are put back on the
+    /// sensor's clock ([`clino_core::clock`]), while a sensor's own stamps
+    /// give their own steps to the bit. `false` (`--stamps as-given`): the
+    /// stamps' steps as they are, in real time and offline.
+    pub sample_clock: bool,
 }
 
 impl FilterConfig {
@@ -319,7 +327,16 @@ impl FilterConfig {
             accel_bias: false,
             offline: false,
             sensor_range: SensorRange::default(),
+            sample_clock: true,
         }
+    }
+
+    /// The same filter taking its steps from the sample clock recovered from
+    /// the stamps (`true`, the default) or from the stamps as they are
+    /// ([`FilterConfig::sample_clock`]).
+    pub fn with_sample_clock(mut self, recover: bool) -> Self {
+        self.sample_clock = recover;
+        self
     }
 
     /// The same filter knowing the sensor's full-scale ranges.
@@ -443,7 +460,8 @@ impl FilterConfig {
             Some(m) => Pipeline::new(self.spec).with_mount_estimator(Some(m)),
             None => Pipeline::new(self.spec).with_lever_arm(self.lever_arm_m),
         }
-        .with_sensor_range(self.sensor_range))
+        .with_sensor_range(self.sensor_range)
+        .with_sample_clock(self.sample_clock))
     }
 
     /// Offline attitudes of a whole recording held in memory (dynamic filter,
@@ -452,7 +470,7 @@ impl FilterConfig {
     /// saturation) hold the attitude of the sample before; the smoother sees
     /// only usable samples, with time steps spanning the gaps.
     pub fn smooth_samples(&self, samples: &[ImuSample]) -> Result<Vec<Option<Attitude>>> {
-        let mut held = HeldRecording::default();
+        let mut held = HeldRecording::new(self.sample_clock);
         for s in samples {
             held.push(s);
         }
@@ -528,9 +546,23 @@ struct HeldRecording {
     acc: Vec<Vec3>,
     dt: Vec<f64>,
     last_usable_t: Option<f64>,
+    /// The sample clock recovered from the usable rows' stamps, as the
+    /// pipeline recovers it (`None`: the stamps' own steps), and the rows
+    /// whose step it gave.
+    clock: Option<SampleClock>,
+    retimed: u64,
 }
 
 impl HeldRecording {
+    /// Nothing held yet; the steps from the recovered sample clock when
+    /// `recover` ([`FilterConfig::sample_clock`]).
+    fn new(recover: bool) -> Self {
+        Self {
+            clock: recover.then(SampleClock::new),
+            ..Self::default()
+        }
+    }
+
     /// Hold one row; returns its admission (`None` when the smoother uses it).
     fn push(&mut self, s: &ImuSample) -> Option<Status> {
         let st = clino_core::pipeline::admission(s);
@@ -539,9 +571,15 @@ impl HeldRecording {
         if st.is_none() {
             self.gyr.push(s.gyr_rad_s);
             self.acc.push(s.acc_m_s2);
-            // the first interval is set by `finish_intervals`
+            // the first interval is set by `finish_intervals`; a stamp not
+            // after the last keeps its (unusable) step
+            let recovered = self.clock.as_mut().and_then(|c| {
+                let step = c.step(s.t_s);
+                self.retimed += u64::from(step.is_some() && c.recovering());
+                step
+            });
             self.dt
-                .push(self.last_usable_t.map_or(0.0, |t0| s.t_s - t0));
+                .push(recovered.unwrap_or_else(|| self.last_usable_t.map_or(0.0, |t0| s.t_s - t0)));
             self.last_usable_t = Some(s.t_s);
         }
         st
@@ -626,6 +664,11 @@ pub struct FuseReport {
     /// Each triad's largest reading and the rows that read it: a rail, when
     /// it repeats ([`Rails::suspected`]).
     pub rails: Rails,
+    /// The time stamps' own noise about the sensor's sample clock, s (RMS),
+    /// when the steps were taken from the clock recovered from them
+    /// ([`FilterConfig::sample_clock`]; their number is
+    /// [`Counts::retimed`]).
+    pub stamp_jitter_s: Option<f64>,
 }
 
 /// Each triad's largest reading (the largest magnitude of its three axes)
@@ -916,7 +959,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
     };
     if config.offline {
         // the smoother needs the whole recording: it is held in compact columns
-        let mut held = HeldRecording::default();
+        let mut held = HeldRecording::new(config.sample_clock);
         while let Some(row) = reader.next_row()? {
             check(reader, &row)?;
             read(&mut rows);
@@ -944,6 +987,10 @@ pub fn fuse_into<R: Read, S: RowSink>(
         progress(FuseProgress::Read(rows));
         let mut tell = |stage, k, n| progress(FuseProgress::Smooth(stage, k, n));
         let qs = config.smooth_held(&mut held, opts.calibration.is_some(), Some(&mut tell))?;
+        report.counts.retimed = held.retimed;
+        if held.retimed > 0 {
+            report.stamp_jitter_s = held.clock.as_ref().map(SampleClock::jitter);
+        }
         for (t, o) in held.outputs(&qs) {
             // unusable rows were counted as they were read
             if matches!(o.status, Status::Waiting | Status::Fused) {
@@ -977,6 +1024,10 @@ pub fn fuse_into<R: Read, S: RowSink>(
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     report.counts.take_clipping(pipeline.counts());
+    report.counts.retimed = pipeline.counts().retimed;
+    if report.counts.retimed > 0 {
+        report.stamp_jitter_s = pipeline.sample_clock().map(SampleClock::jitter);
+    }
     report.mount = pipeline.mount_estimator().map(MountReport::of);
     report.sensor_errors = pipeline.filter().as_dynamic().map(SensorErrorReport::of);
     Ok(report)
@@ -995,7 +1046,7 @@ pub fn offline_outputs(
     samples: &[ImuSample],
     calibrated: bool,
 ) -> Result<Vec<Output>> {
-    let mut held = HeldRecording::default();
+    let mut held = HeldRecording::new(config.sample_clock);
     for s in samples {
         held.push(s);
     }
@@ -1326,6 +1377,72 @@ mod tests {
             assert_eq!(a.update(&x), b.update(&x));
         }
         assert_eq!((b.counts().gyro_clipped, b.counts().acc_clipped), (0, 0));
+    }
+
+    #[test]
+    fn host_stamps_are_put_back_on_the_sensors_clock_in_real_time_and_offline() {
+        // the hand at 100 Hz, its samples stamped as a host receives them
+        // through 16-ms USB packets (every sample of a packet stamped at the
+        // packet's arrival): the steps of the recovered clock give what the
+        // sensor's own stamps give, the stamps' own steps do not
+        use crate::sim::Motion;
+        use crate::sim::hand::{HandMotion, HandParams};
+        let hand = HandMotion::new(HandParams::by_hand(), 4);
+        let model = crate::sim::slewing::sensor().with_bandwidth(40.0);
+        let samples = model.simulate(&hand, 100.0, 60.0, 4);
+        let mut host = samples.clone();
+        let (mut last, mut within) = (f64::NAN, 0.0);
+        for s in host.iter_mut() {
+            let packet = (s.t_s / 0.016).floor() + 1.0;
+            within = if packet == last { within + 1.0 } else { 0.0 };
+            last = packet;
+            s.t_s = packet * 0.016 + 20e-6 * within;
+        }
+        let rms = |out: &[Option<Attitude>]| {
+            let mut r = crate::eval::Rms::default();
+            for (s, q) in samples.iter().zip(out) {
+                if let (Some(q), true) = (q, s.t_s >= 10.0) {
+                    r.push(crate::eval::inclination_error(
+                        q,
+                        &hand.truth(s.t_s).attitude,
+                    ));
+                }
+            }
+            r.value().to_degrees()
+        };
+        let real_time = |c: &FilterConfig, x: &[ImuSample]| {
+            let mut p = c.pipeline().unwrap();
+            let out: Vec<_> = x.iter().map(|s| p.update(s).attitude).collect();
+            (rms(&out), p.counts().retimed)
+        };
+        let recover = FilterConfig::from_spec(FilterSpec::default());
+        let as_given = recover.with_sample_clock(false);
+        let (sensor, none) = real_time(&recover, &samples);
+        let (recovered, retimed) = real_time(&recover, &host);
+        let (given, _) = real_time(&as_given, &host);
+        // measured: 0.141°, 0.140° and 0.499°; the clock is recovered after
+        // 5.6 s (5444 of 6000 samples retimed)
+        assert_eq!(none, 0);
+        assert!(retimed > 4000, "{retimed}");
+        assert!(recovered < 1.1 * sensor, "{recovered} against {sensor}");
+        assert!(given > 2.0 * sensor, "{given} against {sensor}");
+        let offline = |c: FilterConfig, x: &[ImuSample]| {
+            rms(&c.with_offline(true).smooth_samples(x).unwrap())
+        };
+        let (sensor, recovered, given) = (
+            offline(recover, &samples),
+            offline(recover, &host),
+            offline(as_given, &host),
+        );
+        // offline: 0.093°, 0.091° and 0.465°
+        assert!(recovered < 1.2 * sensor, "{recovered} against {sensor}");
+        assert!(given > 2.0 * sensor, "{given} against {sensor}");
+        // a sensor's own stamps: every attitude the same to the bit
+        let mut a = recover.pipeline().unwrap();
+        let mut b = as_given.pipeline().unwrap();
+        for x in &samples {
+            assert_eq!(a.update(x), b.update(x));
+        }
     }
 
     /// A motion sampled at `rate` Hz by the slewing machine's sensor behind

@@ -52,7 +52,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let range = a.stages.sensor_range()?;
     let configs: Vec<_> = eval_configs(&specs, lever_arm, a.stages.offline)?
         .into_iter()
-        .map(|c| c.with_sensor_range(range))
+        .map(|c| {
+            c.with_sensor_range(range)
+                .with_sample_clock(a.stages.stamps.recover())
+        })
         .collect();
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(indicatif::ProgressStyle::with_template(

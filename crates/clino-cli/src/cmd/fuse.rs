@@ -128,7 +128,7 @@ fn sensor_error_summary(e: &clino::fusion::SensorErrorReport) -> String {
 /// The one-line summary on stderr.
 fn summary(rep: &FuseReport, label: &str) -> String {
     format!(
-        "clino fuse: {} rows with {label}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{}){}",
+        "clino fuse: {} rows with {label}: {} initialised, {} fused, {} gyro only, {} waiting for a usable accelerometer, {} with NaN gyro/accelerometer, {} beyond the physical bounds (attitude held{}){}{}",
         rep.counts.samples,
         rep.counts.initialised,
         rep.counts.fused,
@@ -139,8 +139,21 @@ fn summary(rep: &FuseReport, label: &str) -> String {
         rep.first_dropout_line
             .map(|l| format!(", first at line {l}"))
             .unwrap_or_default(),
-        clipped(rep)
+        clipped(rep),
+        stamps(rep)
     )
+}
+
+/// The steps taken from the sample clock recovered from the stamps, when any were.
+fn stamps(rep: &FuseReport) -> String {
+    match rep.stamp_jitter_s {
+        Some(j) if rep.counts.retimed > 0 => format!(
+            "; time stamps off the sensor's clock by {:.2} ms RMS (a host's receive times?): {} rows took their step from the clock recovered from them (`--stamps as-given`: from the stamps)",
+            1e3 * j,
+            rep.counts.retimed
+        ),
+        _ => String::new(),
+    }
 }
 
 /// A hint, when a triad whose range was not given repeats its largest

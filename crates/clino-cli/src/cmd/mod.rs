@@ -188,7 +188,8 @@ pub fn filter_config(
         .with_lever_arm(lever)
         .with_lever_auto(auto)
         .with_offline(stages.offline)
-        .with_sensor_range(stages.sensor_range()?);
+        .with_sensor_range(stages.sensor_range()?)
+        .with_sample_clock(stages.stamps.recover());
     config.validate()?;
     Ok(config)
 }
@@ -290,6 +291,30 @@ pub struct StageArgs {
     /// range within a second.
     #[arg(long, value_name = "G", allow_hyphen_values = true)]
     pub acc_range: Option<f64>,
+    /// Where each step's time comes from. recover: time stamps a host made as each sample
+    /// arrived (off by milliseconds: USB packets, scheduling) are put back on the sensor's own
+    /// clock, recovered from the stamps; a sensor's own stamps give their steps unchanged.
+    /// as-given: the stamps' steps as they are.
+    #[arg(long, value_enum, default_value = "recover")]
+    pub stamps: StampsArg,
+}
+
+/// Where each step's time comes from (`--stamps`).
+#[derive(ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum StampsArg {
+    /// The sensor's sample clock recovered from the stamps.
+    #[default]
+    Recover,
+    /// The stamps as they are.
+    #[value(name = "as-given")]
+    AsGiven,
+}
+
+impl StampsArg {
+    /// Whether to recover the sample clock ([`clino::fusion::FilterConfig::sample_clock`]).
+    pub fn recover(self) -> bool {
+        self == StampsArg::Recover
+    }
 }
 
 impl StageArgs {

@@ -44,9 +44,17 @@ impl<R: SetDutyCycle, P: SetDutyCycle> Instrument<R, P> {
     }
 
     /// The source instrument's set-up with clino's filter: the `dynamic`
-    /// filter at its defaults, no calibration, no lever arm.
+    /// filter at its defaults, no calibration, no lever arm. The board
+    /// stamps each sample with its own timer as it reads it: the stamps are
+    /// the sampling's own, so each step is taken from them
+    /// (`Pipeline::with_sample_clock(false)`; the sample clock recovers
+    /// stamps a host made, and would cost the board time for nothing).
     pub fn dynamic(roll: Dial<R>, pitch: Dial<P>) -> Self {
-        Self::new(Pipeline::new(FilterSpec::default()), roll, pitch)
+        Self::new(
+            Pipeline::new(FilterSpec::default()).with_sample_clock(false),
+            roll,
+            pitch,
+        )
     }
 
     /// [`Instrument::dynamic`] for an MPU6050 read at `config`'s full-scale
@@ -59,7 +67,9 @@ impl<R: SetDutyCycle, P: SetDutyCycle> Instrument<R, P> {
             f64::from(config.gyro_range.dps()),
         );
         Self::new(
-            Pipeline::new(FilterSpec::default()).with_sensor_range(range),
+            Pipeline::new(FilterSpec::default())
+                .with_sensor_range(range)
+                .with_sample_clock(false),
             roll,
             pitch,
         )
