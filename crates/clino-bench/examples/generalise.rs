@@ -50,6 +50,13 @@
 //!
 //! And both on sensors switched on already moving (no initial rest).
 //!
+//! And time stamps not made by the sensor's clock (`--only stamps`): the
+//! hand at 100 Hz and the slow arm on a vibrating base at 125 Hz stamped as
+//! a host receives them (±30 % or ±45 % of a period, late by 0–8 ms, 16-ms
+//! USB packets), some with 2 % of the samples lost; `dynamic` with the sample
+//! clock recovered (the default) and with the stamps as given, VQF with its
+//! fixed period.
+//!
 //! And the sensor's delay: the hand at 40 Hz and the drum, their reference
 //! re-timed so that the samples lag it by 0 (time stamps re-timed to the
 //! samples), 0.4 (the simulator's own anti-alias filter, the grid's) and
@@ -945,8 +952,12 @@ fn stamps_table(seeds: u64, dynamic: &FilterSpec) {
             for seed in 1..=seeds {
                 let rec = make(&c, seed);
                 let n = rec.samples.len();
-                // every 50th sample lost (after the first)
-                let keep: Vec<bool> = (0..n).map(|k| !lost || k % 50 != 49).collect();
+                // 2 % of the samples lost, one at a time (seeded)
+                let keep: Vec<bool> = if lost {
+                    received(n, 0.02, 1, seed)
+                } else {
+                    vec![true; n]
+                };
                 let pick = |k: &usize| keep[*k];
                 let t: Vec<f64> = (0..n).filter(pick).map(|k| rec.samples[k].t_s).collect();
                 let mut host = Rec {
