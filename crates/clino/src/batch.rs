@@ -43,7 +43,8 @@ use serde::Serialize;
 
 use crate::calib::CalibrationFile;
 use crate::fusion::{
-    FilterConfig, FuseOptions, FuseReport, Output, Pipeline, Status, fuse_into, offline_outputs,
+    FilterConfig, FuseOptions, FuseReport, Output, Pipeline, Status, fuse_into,
+    offline_outputs_stamped,
 };
 use crate::io::{ImuCsvReader, RowSink, row_time};
 use crate::{Error, ErrorKind, Result};
@@ -386,7 +387,7 @@ fn check_row(cal: &CalibrationFile, s: &ImuSample, row: u64) -> Result<()> {
 
 /// Fuse a whole recording held in arrays: [`FilterConfig::pipeline`] with the
 /// calibration, then [`run_arrays`]; or, when `config.offline`, the offline
-/// smoother over the calibrated samples ([`offline_outputs`]). The same
+/// smoother over the calibrated samples ([`crate::fusion::offline_outputs`]). The same
 /// stages, in the same order, as [`crate::fusion::fuse`] on a file: the
 /// outputs are equal to the bit.
 pub fn fuse_arrays(
@@ -463,16 +464,23 @@ fn fuse_rows(
                 }
             })
             .collect();
-        let outs = offline_outputs(config, &samples, calibration.is_some())?;
+        let (outs, retimed, jitter) =
+            offline_outputs_stamped(config, &samples, calibration.is_some())?;
         for (k, o) in outs.iter().enumerate() {
             put(k, o);
         }
+        report.counts.retimed = retimed;
+        report.stamp_jitter_s = jitter;
     } else {
         let mut p = config
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
         run_rows(&mut p, arrays, put);
         report.counts.take_clipping(p.counts());
+        report.counts.retimed = p.counts().retimed;
+        if report.counts.retimed > 0 {
+            report.stamp_jitter_s = p.sample_clock().map(clino_core::clock::SampleClock::jitter);
+        }
         // what `clino fuse` reports of a real-time run, from the same pipeline
         report.mount = p.mount_estimator().map(crate::fusion::MountReport::of);
         report.sensor_errors = p
@@ -734,6 +742,65 @@ mod tests {
                     assert_eq!(o.status.as_str(), r[8]);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn arrays_report_the_recovered_clock_as_the_file_run_does() {
+        // 60 s at 100 Hz, each row stamped late by 0–8 ms (a host's receive
+        // times): both paths recover the clock on the same rows, real time
+        // and offline
+        let n = 6000;
+        let (mut s, mut t, mut g, mut a) = (
+            String::from("t_s,gyr_x,gyr_y,gyr_z,acc_x,acc_y,acc_z\n"),
+            Vec::new(),
+            Vec::new(),
+            Vec::new(),
+        );
+        let mut last = f64::MIN;
+        for k in 0..n {
+            let tk = k as f64 * 0.01;
+            let u =
+                ((k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 11) as f64 / (1u64 << 53) as f64;
+            let stamp = (tk + (-0.002 * (1.0 - u).ln()).min(0.008)).max(last + 1e-6);
+            last = stamp;
+            let w = [0.3 * (tk * 2.0).sin(), -0.2 * tk.cos(), 0.1];
+            let f = [0.5 * tk.sin(), 1.0, 9.7];
+            s.push_str(&format!(
+                "{stamp},{},{},{},{},{},{}\n",
+                w[0], w[1], w[2], f[0], f[1], f[2]
+            ));
+            // the arrays hold what the file's text reads back
+            t.push(format!("{stamp}").parse::<f64>().unwrap());
+            g.extend(w);
+            a.extend(f);
+        }
+        for cfg in [
+            FilterConfig::new(FilterKind::Dynamic),
+            FilterConfig::new(FilterKind::Dynamic).with_offline(true),
+        ] {
+            let mut r = ImuCsvReader::new(s.as_bytes(), "m.csv", &ReadOptions::default()).unwrap();
+            let file = fuse(&mut r, &mut Vec::new(), &cfg, &FuseOptions::default()).unwrap();
+            let arr = ImuArrays::new(Some(&t), None, Strided::rows(&g, n), Strided::rows(&a, n));
+            let mut out = vec![
+                Output {
+                    status: Status::Waiting,
+                    attitude: None
+                };
+                n
+            ];
+            let rep = fuse_arrays(&arr, &cfg, None, &mut out).unwrap();
+            assert!(
+                rep.counts.retimed > 4000,
+                "{}: {}",
+                cfg.label(),
+                rep.counts.retimed
+            );
+            assert_eq!(rep.counts.retimed, file.counts.retimed, "{}", cfg.label());
+            assert_eq!(rep.stamp_jitter_s, file.stamp_jitter_s, "{}", cfg.label());
+            let j = rep.stamp_jitter_s.unwrap();
+            // the exponential's standard deviation, 2 ms (capped at 8 ms)
+            assert!((1.5e-3..2.5e-3).contains(&j), "{j}");
         }
     }
 

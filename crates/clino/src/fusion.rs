@@ -1046,12 +1046,30 @@ pub fn offline_outputs(
     samples: &[ImuSample],
     calibrated: bool,
 ) -> Result<Vec<Output>> {
+    offline_outputs_stamped(config, samples, calibrated).map(|(o, _, _)| o)
+}
+
+/// [`offline_outputs`], with the rows whose step came from the sample clock
+/// recovered from the stamps and the stamps' own noise, s
+/// ([`FuseReport::stamp_jitter_s`]).
+pub(crate) fn offline_outputs_stamped(
+    config: &FilterConfig,
+    samples: &[ImuSample],
+    calibrated: bool,
+) -> Result<(Vec<Output>, u64, Option<f64>)> {
     let mut held = HeldRecording::new(config.sample_clock);
     for s in samples {
         held.push(s);
     }
     let q = config.smooth_held(&mut held, calibrated, None)?;
-    Ok(held.outputs(&q).map(|(_, o)| o).collect())
+    let jitter = (held.retimed > 0)
+        .then(|| held.clock.as_ref().map(SampleClock::jitter))
+        .flatten();
+    Ok((
+        held.outputs(&q).map(|(_, o)| o).collect(),
+        held.retimed,
+        jitter,
+    ))
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.
