@@ -108,6 +108,19 @@ fn sensor_range(gyro_range: Option<f64>, acc_range: Option<f64>) -> PyResult<Sen
     ))
 }
 
+/// Whether each step's time comes from the sensor's sample clock recovered
+/// from the stamps (`stamps="recover"`) or from the stamps as they are
+/// (`"as-given"`), as `--stamps`.
+fn sample_clock(stamps: &str) -> PyResult<bool> {
+    match stamps {
+        "recover" => Ok(true),
+        "as-given" => Ok(false),
+        s => Err(PyValueError::new_err(format!(
+            "stamps must be 'recover' or 'as-given', got '{s}'"
+        ))),
+    }
+}
+
 /// The filter configuration from the Python arguments, by the CLI's parsers.
 fn config(
     filter: &str,
@@ -115,6 +128,7 @@ fn config(
     lever_arm: Option<[f64; 3]>,
     range: SensorRange,
     offline: bool,
+    recover: bool,
 ) -> clino::Result<FilterConfig> {
     let mut spec = [parse_spec(filter)?];
     let p: Vec<(&str, String)> = params
@@ -125,7 +139,8 @@ fn config(
     let c = FilterConfig::from_spec(spec[0])
         .with_lever_arm(lever_arm.map(Vec3::from))
         .with_sensor_range(range)
-        .with_offline(offline);
+        .with_offline(offline)
+        .with_sample_clock(recover);
     c.validate()?;
     Ok(c)
 }
@@ -207,7 +222,7 @@ impl<'py> OutBuffers<'py> {
 /// outputs are allocated once and the library writes every row into them
 /// with the GIL released.
 #[pyfunction]
-#[pyo3(signature = (gyr, acc, t=None, rate=None, filter="dynamic", lever_arm=None, calibration=None, offline=false, params=Vec::new(), temp_c=None, tilt=true, gyro_range=None, acc_range=None))]
+#[pyo3(signature = (gyr, acc, t=None, rate=None, filter="dynamic", lever_arm=None, calibration=None, offline=false, params=Vec::new(), temp_c=None, tilt=true, gyro_range=None, acc_range=None, stamps="recover"))]
 #[allow(clippy::too_many_arguments)]
 fn fuse<'py>(
     py: Python<'py>,
@@ -224,9 +239,11 @@ fn fuse<'py>(
     tilt: bool,
     gyro_range: Option<f64>,
     acc_range: Option<f64>,
+    stamps: &str,
 ) -> PyResult<FusedWithCounts<'py>> {
     let range = sensor_range(gyro_range, acc_range)?;
-    let cfg = config(filter, &params, lever_arm, range, offline).py(py)?;
+    let recover = sample_clock(stamps)?;
+    let cfg = config(filter, &params, lever_arm, range, offline, recover).py(py)?;
     let g = strided(&gyr, "gyr")?;
     let a = strided(&acc, "acc")?;
     let ts = t.as_ref().map(|x| slice(x, "t")).transpose()?;
@@ -292,7 +309,7 @@ impl PyPipeline {
 #[pymethods]
 impl PyPipeline {
     #[new]
-    #[pyo3(signature = (filter="dynamic", rate=None, lever_arm=None, calibration=None, params=Vec::new(), gyro_range=None, acc_range=None))]
+    #[pyo3(signature = (filter="dynamic", rate=None, lever_arm=None, calibration=None, params=Vec::new(), gyro_range=None, acc_range=None, stamps="recover"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -303,9 +320,11 @@ impl PyPipeline {
         params: Vec<(String, String)>,
         gyro_range: Option<f64>,
         acc_range: Option<f64>,
+        stamps: &str,
     ) -> PyResult<Self> {
         let range = sensor_range(gyro_range, acc_range)?;
-        let cfg = config(filter, &params, lever_arm, range, false).py(py)?;
+        let recover = sample_clock(stamps)?;
+        let cfg = config(filter, &params, lever_arm, range, false, recover).py(py)?;
         let pipeline = cfg
             .pipeline()
             .py(py)?
@@ -420,14 +439,13 @@ fn filter_help() -> String {
 /// The parsed specification, in its canonical text form.
 #[pyfunction]
 fn spec_text(py: Python<'_>, filter: &str, params: Vec<(String, String)>) -> PyResult<String> {
-    Ok(config(filter, &params, None, SensorRange::default(), false)
-        .py(py)?
-        .label())
+    let c = config(filter, &params, None, SensorRange::default(), false, true).py(py)?;
+    Ok(c.label())
 }
 
 /// `clino eval` (JSON of the table, as `clino eval --json` prints it).
 #[pyfunction]
-#[pyo3(signature = (paths, filter="all", params=Vec::new(), lever_arm=None, offline=false, jobs=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None))]
+#[pyo3(signature = (paths, filter="all", params=Vec::new(), lever_arm=None, offline=false, jobs=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None, stamps="recover"))]
 #[allow(clippy::too_many_arguments)]
 fn evaluate(
     py: Python<'_>,
@@ -443,8 +461,10 @@ fn evaluate(
     g: f64,
     gyro_range: Option<f64>,
     acc_range: Option<f64>,
+    stamps: &str,
 ) -> PyResult<String> {
     let range = sensor_range(gyro_range, acc_range)?;
+    let recover = sample_clock(stamps)?;
     let opts = read_options(gyro_unit, accel_unit, rate, g).py(py)?;
     let res = py.detach(|| -> clino::Result<_> {
         let mut specs: Vec<FilterSpec> = parse_spec_list(filter)?;
@@ -456,7 +476,7 @@ fn evaluate(
         let configs: Vec<FilterConfig> =
             eval::eval_configs(&specs, lever_arm.map(Vec3::from), offline)?
                 .into_iter()
-                .map(|c| c.with_sensor_range(range))
+                .map(|c| c.with_sensor_range(range).with_sample_clock(recover))
                 .collect();
         eval::evaluate(&paths, &configs, &opts, jobs, |_, _, _| {})
     });
@@ -788,7 +808,7 @@ impl Read for PyStream {
 /// `clino::batch::RecordingSummary`). `source` is a path, or a binary file
 /// object (CSV) named `name`.
 #[pyfunction]
-#[pyo3(signature = (source, name=None, filter="dynamic", params=Vec::new(), lever_arm=None, offline=false, calibration=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None))]
+#[pyo3(signature = (source, name=None, filter="dynamic", params=Vec::new(), lever_arm=None, offline=false, calibration=None, gyro_unit="rad/s", accel_unit="m/s2", rate=None, g=clino::core::G0, gyro_range=None, acc_range=None, stamps="recover"))]
 #[allow(clippy::too_many_arguments)]
 fn summarize(
     py: Python<'_>,
@@ -805,9 +825,11 @@ fn summarize(
     g: f64,
     gyro_range: Option<f64>,
     acc_range: Option<f64>,
+    stamps: &str,
 ) -> PyResult<String> {
     let range = sensor_range(gyro_range, acc_range)?;
-    let cfg = config(filter, &params, lever_arm, range, offline).py(py)?;
+    let recover = sample_clock(stamps)?;
+    let cfg = config(filter, &params, lever_arm, range, offline, recover).py(py)?;
     let opts = ReadOptions {
         imu_only: calibration.is_none(),
         ..read_options(gyro_unit, accel_unit, rate, g).py(py)?

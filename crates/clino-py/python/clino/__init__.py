@@ -118,13 +118,18 @@ def _range(x: Any) -> Optional[float]:
     return None if x is None else float(x)
 
 
+def _stamps(x: Any) -> str:
+    # "recover" or "as-given"; anything else is refused, naming both, by the extension
+    return str(x)
+
+
 def _calibration(c: Any) -> Optional[Calibration]:
     if c is None or isinstance(c, Calibration):
         return c
     return Calibration.load(_os.fspath(c))
 
 
-def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, tilt, gyro_range, acc_range, params):
+def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, tilt, gyro_range, acc_range, stamps, params):
     g = _vec3_array(gyr, "gyr")
     a = _vec3_array(acc, "acc")
     q, d, st, counts = _clino.fuse(
@@ -141,6 +146,7 @@ def _fuse(gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, ti
         tilt=tilt,
         gyro_range=_range(gyro_range),
         acc_range=_range(acc_range),
+        stamps=_stamps(stamps),
     )
     return q, d, st, _json.loads(counts)
 
@@ -158,6 +164,7 @@ def fuse(
     temp_c: Any = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: str = "recover",
     **params: Any,
 ) -> _np.ndarray:
     """Attitude of every sample: the quaternions ``clino fuse`` writes.
@@ -181,6 +188,11 @@ def fuse(
     acc_range : float, g — the accelerometer's full-scale range, likewise (MPU6050: 2);
         a specific force read at it is clipped: counted, and the dynamic filter
         forgets the part beyond the range within a second.
+    stamps : str — where each step's time comes from. ``"recover"`` (default): time
+        stamps a host made as each sample arrived (off by milliseconds: USB packets,
+        scheduling) are put back on the sensor's own clock, recovered from the stamps,
+        with lost samples counted; a sensor's own stamps (and ``rate``'s) give their
+        steps unchanged, to the bit. ``"as-given"``: the stamps' steps as they are.
     **params : filter parameters by key, with or without unit suffix
         (``bandwidth=0.2`` for ``bandwidth_rad_s``); a key the filter does not read
         is an error.
@@ -197,7 +209,7 @@ def fuse(
     released while the filter runs: nothing is allocated per row.
     """
     q, _, _, _ = _fuse(
-        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, False, gyro_range, acc_range, params
+        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, False, gyro_range, acc_range, stamps, params
     )
     return q
 
@@ -215,6 +227,7 @@ def fuse_full(
     temp_c: Any = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: str = "recover",
     **params: Any,
 ) -> Dict[str, Any]:
     """:func:`fuse` with the tilt outputs and the status of every sample.
@@ -225,7 +238,9 @@ def fuse_full(
     ``gyro_only``, ``dropout``, ``saturated``); ``status_code`` (N,) uint8 (index
     in :data:`STATUS_NAMES`); ``counts`` (dict of the pipeline's counts, with
     ``gyro_clipped`` and ``acc_clipped``: samples read at ``gyro_range`` or
-    ``acc_range``);
+    ``acc_range``, and ``retimed``: samples whose step came from the sample clock
+    recovered from the stamps, ``stamps="recover"``); ``stamp_jitter_s`` (the
+    stamps' own noise about that clock, s RMS, when it gave steps; else None);
     ``sensor_errors`` (dict: what ``dynamic`` learnt from rest to rest, with 1σ
     and probabilities, and the gyro scale its loop learnt in motion
     (``motion_gyro_scale``), as ``clino fuse`` prints it; None offline or for another
@@ -234,7 +249,7 @@ def fuse_full(
     numbers as the columns of ``clino fuse``.
     """
     q, d, st, counts = _fuse(
-        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, True, gyro_range, acc_range, params
+        gyr, acc, rate, t, filter, lever_arm, calibration, offline, temp_c, True, gyro_range, acc_range, stamps, params
     )
     return {
         "quat": q,
@@ -244,6 +259,7 @@ def fuse_full(
         "status": _np.array(STATUS_NAMES, dtype=object)[st],
         "status_code": st,
         "counts": counts["counts"],
+        "stamp_jitter_s": counts.get("stamp_jitter_s"),
         "sensor_errors": counts.get("sensor_errors"),
         "mount": counts.get("mount"),
     }
@@ -258,8 +274,9 @@ class Filter:
     :meth:`update_batch` (alias :meth:`updateBatch`) an (N, 3) pair of arrays;
     both go through the same pipeline, so any split of a recording into
     batches gives the same numbers as one :func:`fuse` call. ``lever_arm``,
-    ``calibration``, ``gyro_range`` (°/s) and ``acc_range`` (g) are those of
-    :func:`fuse`; :attr:`counts` then counts the clipped samples too.
+    ``calibration``, ``gyro_range`` (°/s), ``acc_range`` (g) and ``stamps`` are
+    those of :func:`fuse`; :attr:`counts` then counts the clipped samples too, and
+    the samples whose step came from the recovered sample clock (``retimed``).
     """
 
     _default_filter = "dynamic"
@@ -274,6 +291,7 @@ class Filter:
         calibration: Any = None,
         gyro_range: Optional[float] = None,
         acc_range: Optional[float] = None,
+        stamps: str = "recover",
         **params: Any,
     ) -> None:
         if Ts is not None and rate is not None:
@@ -290,6 +308,7 @@ class Filter:
             params=_params(params),
             gyro_range=_range(gyro_range),
             acc_range=_range(acc_range),
+            stamps=_stamps(stamps),
         )
         self._quat: Optional[_np.ndarray] = None
 
@@ -337,7 +356,8 @@ class Filter:
 
     @property
     def counts(self) -> Dict[str, int]:
-        """Samples by status so far, and the clipped ones (``gyro_clipped``, ``acc_clipped``)."""
+        """Samples by status so far, the clipped ones (``gyro_clipped``, ``acc_clipped``)
+        and those whose step came from the recovered sample clock (``retimed``)."""
         return _json.loads(self._p.counts())
 
     @property
@@ -402,6 +422,7 @@ def evaluate(
     offline: bool = False,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: str = "recover",
     jobs: Optional[int] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
@@ -421,7 +442,8 @@ def evaluate(
     pandas DataFrame, one row per (recording, filter), the delay as
     ``sensor_delay_periods``. One task per recording on ``jobs`` threads (all
     cores by default), GIL released. ``lever_arm``, ``offline``, ``gyro_range``
-    (°/s) and ``acc_range`` (g) apply to every filter, as in :func:`fuse`.
+    (°/s), ``acc_range`` (g) and ``stamps`` apply to every filter, as in
+    :func:`fuse`.
     """
     if isinstance(paths, (str, _os.PathLike)):
         paths = [paths]
@@ -431,6 +453,7 @@ def evaluate(
             lever_arm=_lever(lever_arm), offline=offline, jobs=jobs,
             gyro_unit=gyro_unit, accel_unit=accel_unit, rate=rate, g=g,
             gyro_range=_range(gyro_range), acc_range=_range(acc_range),
+            stamps=_stamps(stamps),
         )
     )
     _nan_scores(out)
@@ -560,6 +583,7 @@ def summarize(
     calibration: Any = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: str = "recover",
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
     rate: Optional[float] = None,
@@ -571,7 +595,10 @@ def summarize(
     file object holding CSV (e.g. ``fsspec.open(url, "rb")``). Returns a flat
     dict: ``file``, ``filter``, counts by status (and ``gyro_clipped``,
     ``acc_clipped``: samples read at ``gyro_range`` °/s or ``acc_range`` g, as in
-    :func:`fuse`), and ``{roll,pitch,inclination}_{n,mean_deg,std_deg,min_deg,max_deg}``,
+    :func:`fuse`; ``retimed``: samples whose step came from the sample clock
+    recovered from the stamps, with ``stamp_jitter_s`` the stamps' own noise about
+    it, s RMS, or None), and
+    ``{roll,pitch,inclination}_{n,mean_deg,std_deg,min_deg,max_deg}``,
     ``t_first_s``, ``t_last_s``."""
     if isinstance(source, (str, _os.PathLike)):
         source = _os.fspath(source)
@@ -580,12 +607,13 @@ def summarize(
             source, name=name, filter=filter, params=_params(params), lever_arm=_lever(lever_arm),
             offline=offline, calibration=_calibration(calibration), gyro_unit=gyro_unit,
             accel_unit=accel_unit, rate=rate, g=g, gyro_range=_range(gyro_range),
-            acc_range=_range(acc_range),
+            acc_range=_range(acc_range), stamps=_stamps(stamps),
         )
     )
     row: Dict[str, Any] = {"file": s["file"], "filter": s["filter"]}
     row.update({k: v for k, v in s["report"]["counts"].items()})
     row["first_dropout_line"] = s["report"]["first_dropout_line"]
+    row["stamp_jitter_s"] = s["report"].get("stamp_jitter_s")
     for ang in ("roll", "pitch", "inclination"):
         for k, v in s["tilt"][ang].items():
             row[f"{ang}_{k}"] = float("nan") if v is None else v

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -11,6 +11,7 @@ import numpy.typing as npt
 PathLike = Union[str, os.PathLike[str]]
 ArrayLike = npt.ArrayLike
 F64 = npt.NDArray[np.float64]
+Stamps = Literal["recover", "as-given"]
 
 G0: float
 STATUS_NAMES: Tuple[str, ...]
@@ -49,6 +50,7 @@ def fuse(
     temp_c: Optional[ArrayLike] = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: Stamps = "recover",
     **params: Any,
 ) -> F64: ...
 def fuse_full(
@@ -64,6 +66,7 @@ def fuse_full(
     temp_c: Optional[ArrayLike] = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: Stamps = "recover",
     **params: Any,
 ) -> Dict[str, Any]: ...
 
@@ -78,6 +81,7 @@ class Filter:
         calibration: Union[Calibration, PathLike, None] = None,
         gyro_range: Optional[float] = None,
         acc_range: Optional[float] = None,
+        stamps: Stamps = "recover",
         **params: Any,
     ) -> None: ...
     def update(
@@ -113,6 +117,7 @@ def evaluate(
     offline: bool = False,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: Stamps = "recover",
     jobs: Optional[int] = None,
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
@@ -144,6 +149,7 @@ def summarize(
     calibration: Union[Calibration, PathLike, None] = None,
     gyro_range: Optional[float] = None,
     acc_range: Optional[float] = None,
+    stamps: Stamps = "recover",
     gyro_unit: str = "rad/s",
     accel_unit: str = "m/s2",
     rate: Optional[float] = None,
