@@ -625,6 +625,44 @@ fn received(n: usize, p: f64, burst: usize, seed: u64) -> Vec<bool> {
     keep
 }
 
+/// `rec` as received: only the samples `keep` marks.
+fn received_part(rec: &Rec, keep: &[bool]) -> Rec {
+    let pick = |k: &usize| keep[*k];
+    let n = rec.samples.len();
+    Rec {
+        samples: (0..n).filter(pick).map(|k| rec.samples[k]).collect(),
+        truth: (0..n).filter(pick).map(|k| rec.truth[k]).collect(),
+        scored: (0..n).filter(pick).map(|k| rec.scored[k]).collect(),
+        rest: (0..n).filter(pick).map(|k| rec.rest[k]).collect(),
+        lever: rec.lever,
+        range: rec.range,
+    }
+}
+
+/// `rec` as a filter with a fixed sample period (VQF) takes it when the
+/// samples `keep` does not mark were lost: each replaced by the next one
+/// received, scored on the samples received.
+fn held_over(rec: &Rec, keep: &[bool]) -> Rec {
+    let n = rec.samples.len();
+    let mut filled = rec.samples.clone();
+    for k in (0..n.saturating_sub(1)).rev() {
+        if !keep[k] {
+            filled[k] = ImuSample {
+                t_s: rec.samples[k].t_s,
+                ..filled[k + 1]
+            };
+        }
+    }
+    Rec {
+        samples: filled,
+        truth: rec.truth.clone(),
+        scored: (0..n).map(|k| rec.scored[k] && keep[k]).collect(),
+        rest: rec.rest.clone(),
+        lever: rec.lever,
+        range: rec.range,
+    }
+}
+
 /// `rec` scored against its truth re-timed by `x` sample periods: row k
 /// against the truth at t_k + x·h, slerped between the neighbouring rows'
 /// truths (the motions are smooth over a period). The rows beyond the ends
@@ -803,34 +841,10 @@ fn lost_samples(seeds: u64, dynamic: &FilterSpec) {
             let rec = make(&c, seed);
             let n = rec.samples.len();
             let keep = received(n, p, burst, seed);
-            let pick = |k: &usize| keep[*k];
-            let sub = Rec {
-                samples: (0..n).filter(pick).map(|k| rec.samples[k]).collect(),
-                truth: (0..n).filter(pick).map(|k| rec.truth[k]).collect(),
-                scored: (0..n).filter(pick).map(|k| rec.scored[k]).collect(),
-                rest: (0..n).filter(pick).map(|k| rec.rest[k]).collect(),
-                lever: None,
-                range: rec.range,
-            };
+            let sub = received_part(&rec, &keep);
             d += rmse(&sub, &run_clino(&sub, dynamic));
             o += rmse(&sub, &run_offline(&sub, dynamic));
-            let mut filled = rec.samples.clone();
-            for k in (0..n.saturating_sub(1)).rev() {
-                if !keep[k] {
-                    filled[k] = ImuSample {
-                        t_s: rec.samples[k].t_s,
-                        ..filled[k + 1]
-                    };
-                }
-            }
-            let full = Rec {
-                samples: filled,
-                truth: rec.truth.clone(),
-                scored: (0..n).map(|k| rec.scored[k] && keep[k]).collect(),
-                rest: rec.rest.clone(),
-                lever: None,
-                range: rec.range,
-            };
+            let full = held_over(&rec, &keep);
             v += rmse(&full, &run_vqf(&full));
         }
         let k = seeds as f64;
@@ -958,16 +972,8 @@ fn stamps_table(seeds: u64, dynamic: &FilterSpec) {
                 } else {
                     vec![true; n]
                 };
-                let pick = |k: &usize| keep[*k];
-                let t: Vec<f64> = (0..n).filter(pick).map(|k| rec.samples[k].t_s).collect();
-                let mut host = Rec {
-                    samples: (0..n).filter(pick).map(|k| rec.samples[k]).collect(),
-                    truth: (0..n).filter(pick).map(|k| rec.truth[k]).collect(),
-                    scored: (0..n).filter(pick).map(|k| rec.scored[k]).collect(),
-                    rest: (0..n).filter(pick).map(|k| rec.rest[k]).collect(),
-                    lever: rec.lever,
-                    range: rec.range,
-                };
+                let mut host = received_part(&rec, &keep);
+                let t: Vec<f64> = host.samples.iter().map(|s| s.t_s).collect();
                 for (s, ts) in host.samples.iter_mut().zip(stamps.apply(&t, seed)) {
                     s.t_s = ts;
                 }
@@ -977,25 +983,8 @@ fn stamps_table(seeds: u64, dynamic: &FilterSpec) {
                     .with_sample_clock(false);
                 g += rmse(&host, &run_pipeline(&host, given).0);
                 o += rmse(&host, &run_offline(&host, dynamic));
-                // VQF, whose period is fixed: each lost sample replaced by
-                // the next one received, scored on the samples received
-                let mut filled = rec.samples.clone();
-                for k in (0..n.saturating_sub(1)).rev() {
-                    if !keep[k] {
-                        filled[k] = ImuSample {
-                            t_s: rec.samples[k].t_s,
-                            ..filled[k + 1]
-                        };
-                    }
-                }
-                let full = Rec {
-                    samples: filled,
-                    truth: rec.truth.clone(),
-                    scored: (0..n).map(|k| rec.scored[k] && keep[k]).collect(),
-                    rest: rec.rest.clone(),
-                    lever: rec.lever,
-                    range: rec.range,
-                };
+                // VQF, whose period is fixed
+                let full = held_over(&rec, &keep);
                 v += rmse(&full, &run_vqf(&full));
             }
             let k = seeds as f64;
