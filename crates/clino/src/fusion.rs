@@ -580,7 +580,8 @@ impl HeldRecording {
             });
             self.dt
                 .push(recovered.unwrap_or_else(|| self.last_usable_t.map_or(0.0, |t0| s.t_s - t0)));
-            self.last_usable_t = Some(s.t_s);
+            // never back: a stamp before the latest is measured from it
+            self.last_usable_t = Some(self.last_usable_t.map_or(s.t_s, |t0| t0.max(s.t_s)));
         }
         st
     }
@@ -1833,5 +1834,55 @@ mod tests {
         assert_eq!(rep.counts.waiting, 1);
         let first = out.lines().nth(1).unwrap();
         assert_eq!(first, "0.0,NaN,NaN,NaN,NaN,NaN,NaN,NaN,waiting");
+    }
+
+    /// A still sensor's sample at `t_s`.
+    fn still_at(t_s: f64) -> ImuSample {
+        ImuSample::new(t_s, Vec3::zeros(), Vec3::new(0.0, 0.0, clino_core::G0))
+    }
+
+    #[test]
+    fn a_stamp_between_an_earlier_one_and_the_last_adds_no_time() {
+        // 100 Hz, then a stamp 5 ms back (0.195 after 0.20), then one 2 ms
+        // after that but still before the last (0.198): the pipeline drops
+        // both (not after the last used sample), and so must the smoother
+        // (a step measured from the stamp that went back gave 0.198 a
+        // positive 3 ms: the running time ran 3 ms past the stamps, 5 ms
+        // as given)
+        for recover in [true, false] {
+            let mut held = HeldRecording::new(recover);
+            let mut t: Vec<f64> = (0..=20).map(|k| f64::from(k) * 0.01).collect();
+            t.extend([0.195, 0.198, 0.21, 0.22]);
+            for &x in &t {
+                held.push(&still_at(x));
+            }
+            held.finish_intervals();
+            let running: f64 = held.dt[1..]
+                .iter()
+                .filter(|d| d.is_finite() && **d > 0.0)
+                .sum();
+            assert!((running - 0.22).abs() < 1e-9, "{recover}: {running}");
+        }
+    }
+
+    #[test]
+    fn the_stamps_noise_is_reported_after_a_restart_near_the_end() {
+        // 100 Hz still, stamps off by ±3 ms (1.7 ms RMS) for 60 s, a 2-s
+        // hole, then 1.5 s more: the clock recovered the stamps, the hole
+        // started it again, and the last 1.5 s are too few to judge; the
+        // stamps' noise reported is the one judged before (it was 0.00 ms)
+        let samples: Vec<ImuSample> = (0..6150u32)
+            .map(|k| {
+                let t = f64::from(k) * 0.01 + if k >= 6000 { 2.0 } else { 0.0 };
+                let u = f64::from(k.wrapping_mul(7919) % 1000) / 1000.0;
+                still_at(t + 0.003 * (2.0 * u - 1.0))
+            })
+            .collect();
+        let config = FilterConfig::from_spec(FilterSpec::default()).with_offline(true);
+        let (outs, retimed, jitter) = offline_outputs_stamped(&config, &samples, false).unwrap();
+        assert_eq!(outs.len(), samples.len());
+        assert!(retimed > 4000, "{retimed}");
+        let j = jitter.unwrap();
+        assert!(j > 1e-3 && j < 2.5e-3, "{j}");
     }
 }
