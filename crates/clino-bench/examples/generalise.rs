@@ -203,20 +203,9 @@ fn run_offline(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
     let gyr: Vec<Vec3> = rec.samples.iter().map(|s| s.gyr_rad_s).collect();
     let acc: Vec<Vec3> = rec.samples.iter().map(|s| s.acc_m_s2).collect();
     let t: Vec<f64> = rec.samples.iter().map(|s| s.t_s).collect();
-    // the steps of the sample clock recovered from the stamps, as
-    // `clino fuse --offline` takes them: once over the stamps, and if it
-    // recovered them, again from the start, primed with their statistics
-    let mut clock = clino::core::clock::SampleClock::new();
-    let mut recovered = false;
-    for &tk in &t {
-        clock.step(tk);
-        recovered |= clock.recovering();
-    }
-    let mut clock = if recovered {
-        clock.primed()
-    } else {
-        clino::core::clock::SampleClock::new()
-    };
+    // the steps of the sample clock recovered over the whole recording, as
+    // `clino fuse --offline` takes them
+    let mut clock = clino::core::clock::SampleClock::primed_over(t.iter().copied());
     let dt: Vec<f64> = (0..t.len())
         .map(|k| {
             let step = clock.step(t[k]);

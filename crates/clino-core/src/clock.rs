@@ -688,6 +688,23 @@ impl SampleClock {
         }
     }
 
+    /// A clock to run over a whole recording's `stamps` (offline): run over
+    /// them once, [`SampleClock::primed`] where it recovered them, a new
+    /// clock where it did not (its steps are then the stamps', to the bit).
+    pub fn primed_over<I: IntoIterator<Item = f64>>(stamps: I) -> Self {
+        let mut once = Self::new();
+        let mut recovered = false;
+        for t in stamps {
+            once.step(t);
+            recovered |= once.recovering();
+        }
+        if recovered {
+            once.primed()
+        } else {
+            Self::new()
+        }
+    }
+
     /// The stamps left the clock (a changed rate, a host's clock stepped):
     /// follow them from the stamp `t` and judge them afresh; the stamps'
     /// step `d`.

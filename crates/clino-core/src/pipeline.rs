@@ -209,12 +209,14 @@ impl Counts {
         (gyro, acc)
     }
 
-    /// The clipped readings `other` counted, in place of these (a run's
-    /// statuses counted apart from the pipeline that counted its clipping).
-    pub fn take_clipping(&mut self, other: &Counts) {
+    /// What `other` counted beyond the statuses, in place of these: the
+    /// clipped readings and the steps from the recovered sample clock (a
+    /// run's statuses counted apart from the pipeline that counted these).
+    pub fn take_pipeline(&mut self, other: &Counts) {
         self.gyro_clipped = other.gyro_clipped;
         self.acc_clipped = other.acc_clipped;
         self.first_clipped = other.first_clipped;
+        self.retimed = other.retimed;
     }
 
     /// Count one sample of status `s`.

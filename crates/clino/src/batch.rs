@@ -476,17 +476,8 @@ fn fuse_rows(
             .pipeline()?
             .with_calibration(calibration.map(CalibrationFile::calibration));
         run_rows(&mut p, arrays, put);
-        report.counts.take_clipping(p.counts());
-        report.counts.retimed = p.counts().retimed;
-        if report.counts.retimed > 0 {
-            report.stamp_jitter_s = p.sample_clock().map(clino_core::clock::SampleClock::jitter);
-        }
         // what `clino fuse` reports of a real-time run, from the same pipeline
-        report.mount = p.mount_estimator().map(crate::fusion::MountReport::of);
-        report.sensor_errors = p
-            .filter()
-            .as_dynamic()
-            .map(crate::fusion::SensorErrorReport::of);
+        report.take_real_time(&p);
     }
     report.first_clipped_line = report
         .counts

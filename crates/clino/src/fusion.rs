@@ -546,9 +546,10 @@ struct HeldRecording {
     acc: Vec<Vec3>,
     dt: Vec<f64>,
     last_usable_t: Option<f64>,
-    /// The sample clock recovered from the usable rows' stamps, as the
-    /// pipeline recovers it (`None`: the stamps' own steps), and the rows
-    /// whose step it gave.
+    /// Take the steps from the sample clock recovered from the usable
+    /// rows' stamps (`finish_intervals`); the clock, once it has run, and
+    /// the rows whose step it gave.
+    recover: bool,
     clock: Option<SampleClock>,
     retimed: u64,
 }
@@ -558,7 +559,7 @@ impl HeldRecording {
     /// `recover` ([`FilterConfig::sample_clock`]).
     fn new(recover: bool) -> Self {
         Self {
-            clock: recover.then(SampleClock::new),
+            recover,
             ..Self::default()
         }
     }
@@ -571,37 +572,43 @@ impl HeldRecording {
         if st.is_none() {
             self.gyr.push(s.gyr_rad_s);
             self.acc.push(s.acc_m_s2);
-            // the first interval is set by `finish_intervals`; a stamp not
-            // after the last keeps its (unusable) step
-            let recovered = self.clock.as_mut().and_then(|c| {
-                let step = c.step(s.t_s);
-                self.retimed += u64::from(step.is_some() && c.recovering());
-                step
-            });
+            // the stamps' step (the first set by `finish_intervals`), from
+            // the latest stamp: one not after it is unusable (≤ 0)
             self.dt
-                .push(recovered.unwrap_or_else(|| self.last_usable_t.map_or(0.0, |t0| s.t_s - t0)));
-            // never back: a stamp before the latest is measured from it
+                .push(self.last_usable_t.map_or(0.0, |t0| s.t_s - t0));
             self.last_usable_t = Some(self.last_usable_t.map_or(s.t_s, |t0| t0.max(s.t_s)));
         }
         st
     }
 
+    /// The rows whose step came from the recovered sample clock, and the
+    /// stamps' noise, s, when any did ([`FuseReport::stamp_jitter_s`]).
+    fn stamps(&self) -> (u64, Option<f64>) {
+        let jitter = (self.retimed > 0)
+            .then(|| self.clock.as_ref().map(SampleClock::jitter))
+            .flatten();
+        (self.retimed, jitter)
+    }
+
     /// The first usable sample's interval: the nominal period (the next
     /// interval), used only to initialise.
     fn finish_intervals(&mut self) {
-        // a clock that recovered the stamps runs over them again from the
-        // start, primed with their statistics: the seconds it took to judge
-        // them are recovered too
-        if let (Some(c), true) = (&self.clock, self.retimed > 0) {
-            let mut c = c.primed();
+        // the steps of the sample clock recovered over the whole recording
+        // (SampleClock::primed_over: the seconds a clock run once takes to
+        // judge the stamps are recovered too); a stamp not after the last
+        // keeps its (unusable) step
+        if self.recover {
+            let usable = || {
+                self.t
+                    .iter()
+                    .zip(&self.status)
+                    .filter(|(_, st)| st.is_none())
+                    .map(|(t, _)| *t)
+            };
+            let mut c = SampleClock::primed_over(usable());
             self.retimed = 0;
-            let usable = self
-                .t
-                .iter()
-                .zip(&self.status)
-                .filter(|(_, st)| st.is_none());
-            for (dt, (t, _)) in self.dt.iter_mut().zip(usable) {
-                if let Some(step) = c.step(*t) {
+            for (dt, t) in self.dt.iter_mut().zip(usable()) {
+                if let Some(step) = c.step(t) {
                     *dt = step;
                     self.retimed += u64::from(c.recovering());
                 }
@@ -820,6 +827,19 @@ impl MountReport {
 }
 
 impl FuseReport {
+    /// What the pipeline of a real-time run counted and estimated beyond
+    /// the statuses: the clipped readings, the steps from the recovered
+    /// sample clock and the stamps' noise, the mount estimate and the
+    /// learnt sensor errors (the one rule for files and arrays).
+    pub(crate) fn take_real_time(&mut self, pipeline: &Pipeline) {
+        self.counts.take_pipeline(pipeline.counts());
+        self.stamp_jitter_s = (self.counts.retimed > 0)
+            .then(|| pipeline.sample_clock().map(SampleClock::jitter))
+            .flatten();
+        self.mount = pipeline.mount_estimator().map(MountReport::of);
+        self.sensor_errors = pipeline.filter().as_dynamic().map(SensorErrorReport::of);
+    }
+
     fn add(&mut self, status: Status, line: u64) {
         self.counts.record(status);
         if matches!(status, Status::Dropout | Status::Saturated) {
@@ -1007,10 +1027,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         progress(FuseProgress::Read(rows));
         let mut tell = |stage, k, n| progress(FuseProgress::Smooth(stage, k, n));
         let qs = config.smooth_held(&mut held, opts.calibration.is_some(), Some(&mut tell))?;
-        report.counts.retimed = held.retimed;
-        if held.retimed > 0 {
-            report.stamp_jitter_s = held.clock.as_ref().map(SampleClock::jitter);
-        }
+        (report.counts.retimed, report.stamp_jitter_s) = held.stamps();
         for (t, o) in held.outputs(&qs) {
             // unusable rows were counted as they were read
             if matches!(o.status, Status::Waiting | Status::Fused) {
@@ -1043,13 +1060,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         }
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
-    report.counts.take_clipping(pipeline.counts());
-    report.counts.retimed = pipeline.counts().retimed;
-    if report.counts.retimed > 0 {
-        report.stamp_jitter_s = pipeline.sample_clock().map(SampleClock::jitter);
-    }
-    report.mount = pipeline.mount_estimator().map(MountReport::of);
-    report.sensor_errors = pipeline.filter().as_dynamic().map(SensorErrorReport::of);
+    report.take_real_time(&pipeline);
     Ok(report)
 }
 
@@ -1082,14 +1093,8 @@ pub(crate) fn offline_outputs_stamped(
         held.push(s);
     }
     let q = config.smooth_held(&mut held, calibrated, None)?;
-    let jitter = (held.retimed > 0)
-        .then(|| held.clock.as_ref().map(SampleClock::jitter))
-        .flatten();
-    Ok((
-        held.outputs(&q).map(|(_, o)| o).collect(),
-        held.retimed,
-        jitter,
-    ))
+    let (retimed, jitter) = held.stamps();
+    Ok((held.outputs(&q).map(|(_, o)| o).collect(), retimed, jitter))
 }
 
 /// Write the seven attitude columns (NaN before initialisation) and feed the trace.

@@ -461,8 +461,7 @@ impl Consumer<'_, '_> {
         }
         let o = self.pipeline.update(s);
         self.counts.pipeline.record(o.status);
-        self.counts.pipeline.take_clipping(self.pipeline.counts());
-        self.counts.pipeline.retimed = self.pipeline.counts().retimed;
+        self.counts.pipeline.take_pipeline(self.pipeline.counts());
         if let Some(csv) = self.outputs.csv.as_mut() {
             csv.row(s.t_s, &o)?;
         }
