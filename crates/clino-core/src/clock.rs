@@ -862,6 +862,11 @@ mod tests {
                     "{rate} {name}: {}",
                     c.period()
                 );
+                // the stamps' noise as identified (√r from the spreads),
+                // against the stamps' own RMS about the samples: measured
+                // 0.97–1.05
+                let j = c.jitter() / raw;
+                assert!((j - 1.0).abs() < 0.08, "{rate} {name}: {j}");
                 assert!(rec < raw / better, "{rate} {name}: {rec} against {raw}");
                 // every step given after the first 20 s is one period, to 5 %
                 let worst = d[(25.0 * rate) as usize..]
