@@ -304,6 +304,10 @@ enum Sensor {
     /// 0.08 °/s, accelerometer 0.5–0.86 mg per °C), 0.48 °/s and 3–5 mg
     /// over the two minutes.
     WarmUp,
+    /// A gyro never zeroed: biases of (3, −2, 1.5) °/s, within an
+    /// MPU6050's zero-rate output tolerance of ±20 °/s (what a hobby board
+    /// reads at power-on before anyone holds it still to calibrate).
+    GyroBias,
 }
 
 impl Sensor {
@@ -318,6 +322,7 @@ impl Sensor {
             Sensor::CrossAxis => "xaxis1.5%",
             Sensor::WarmUp => "warm-up",
             Sensor::WideGyro => "gyro2000dps",
+            Sensor::GyroBias => "gyro-bias3dps",
         }
     }
     fn model(self, rate: f64) -> ImuModel {
@@ -336,6 +341,7 @@ impl Sensor {
                 m.accel.scale = Vec3::new(0.05, -0.05, 0.03);
             }
             Sensor::WarmUp => m.temperature.rate_c_per_s = 0.05,
+            Sensor::GyroBias => m.gyro.bias = Vec3::new(3.0, -2.0, 1.5).map(f64::to_radians),
             Sensor::WideGyro => m.gyro.range = 2000f64.to_radians(),
             Sensor::CrossAxis => {
                 // asymmetric: a misalignment (antisymmetric part) and a
@@ -1343,6 +1349,9 @@ fn main() -> clino::Result<()> {
         (Kind::Drum, Sensor::Calibrated, 100.0),
         (Kind::Drum, Sensor::GyroScale, 100.0),
         (Kind::Drum, Sensor::GyroScale, 25.0),
+        (Kind::Hand, Sensor::GyroBias, 40.0),
+        (Kind::Held, Sensor::GyroBias, 100.0),
+        (Kind::SlowVib, Sensor::GyroBias, 125.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),
         (Kind::Slewing, Sensor::Bias, 200.0),
         (Kind::Slewing, Sensor::Bias, 50.0),
