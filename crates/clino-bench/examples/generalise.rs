@@ -20,7 +20,10 @@
 //! without a vibrating base (an engine's 8.75–30 Hz, and a structure swaying
 //! at 1.5–5 Hz, below the rest detector's vibration low-pass), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
-//! excavator.
+//! excavator. The sensors: calibrated, or with one kind of error each
+//! (accelerometer scale and bias, gyro scale and bias, cross-axis terms, a
+//! board warming up, a wide gyro range), or mounted on its side or upside
+//! down on the moving body ([`Mounted`]).
 //!
 //! Simulated recordings are scored from the end of their initial rest on
 //! (motion and the rests between moves); BROAD on its `movement` samples.
@@ -83,7 +86,7 @@ use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, SensorRange, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams, duty_clock};
-use clino::sim::motion::{Drum, Offset, Sum, vibration};
+use clino::sim::motion::{Drum, Mounted, Offset, Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
 use clino::sim::{ImuModel, Motion};
 use clino::smooth::{SmoothOptions, smooth};
@@ -233,7 +236,9 @@ fn run_offline(rec: &Rec, spec: &FilterSpec) -> Vec<Attitude> {
     )
 }
 
-/// A simulated recording of `motion` through `model`.
+/// A simulated recording of `motion` through `model`, the sensor turned on
+/// the body by `mount` ([`Mounted`]; its truth is the sensor's attitude).
+#[allow(clippy::too_many_arguments)]
 fn simulate(
     motion: &dyn Motion,
     model: &ImuModel,
@@ -242,7 +247,10 @@ fn simulate(
     seed: u64,
     score_from: f64,
     lever: Option<Vec3>,
+    mount: Attitude,
 ) -> Rec {
+    let mounted = Mounted { motion, mount };
+    let motion: &dyn Motion = &mounted;
     let samples = model.simulate(motion, rate, seconds, seed);
     let truth = samples
         .iter()
@@ -308,6 +316,12 @@ enum Sensor {
     /// MPU6050's zero-rate output tolerance of ±20 °/s (what a hobby board
     /// reads at power-on before anyone holds it still to calibrate).
     GyroBias,
+    /// The calibrated sensor mounted on its side (turned 90° about its x
+    /// axis: its z axis horizontal), as on a wall, a boom's flank or one
+    /// segment of a chain; the truth is the sensor's own attitude.
+    Sideways,
+    /// The calibrated sensor mounted upside down (turned 180° about x).
+    UpsideDown,
 }
 
 impl Sensor {
@@ -323,6 +337,19 @@ impl Sensor {
             Sensor::WarmUp => "warm-up",
             Sensor::WideGyro => "gyro2000dps",
             Sensor::GyroBias => "gyro-bias3dps",
+            Sensor::Sideways => "sideways",
+            Sensor::UpsideDown => "upside-down",
+        }
+    }
+
+    /// How the sensor is turned on the moving body (its frame against the
+    /// body's whose motion the simulation describes).
+    fn mount(self) -> Attitude {
+        let about_x = |a: f64| Attitude::from_scaled_axis(Vec3::new(a, 0.0, 0.0));
+        match self {
+            Sensor::Sideways => about_x(std::f64::consts::FRAC_PI_2),
+            Sensor::UpsideDown => about_x(std::f64::consts::PI),
+            _ => Attitude::identity(),
         }
     }
     fn model(self, rate: f64) -> ImuModel {
@@ -342,6 +369,7 @@ impl Sensor {
             }
             Sensor::WarmUp => m.temperature.rate_c_per_s = 0.05,
             Sensor::GyroBias => m.gyro.bias = Vec3::new(3.0, -2.0, 1.5).map(f64::to_radians),
+            Sensor::Sideways | Sensor::UpsideDown => {}
             Sensor::WideGyro => m.gyro.range = 2000f64.to_radians(),
             Sensor::CrossAxis => {
                 // asymmetric: a misalignment (antisymmetric part) and a
@@ -460,6 +488,8 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 seed,
                 m.initial_rest_s,
                 Some(m.lever_arm_m),
+                // (the lever arm is in the machine's frame: upright only)
+                Attitude::identity(),
             )
         }
         Kind::Drum => {
@@ -477,7 +507,16 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 swing_hz: 0.1,
                 heading_rad: 0.7 + seed as f64,
             };
-            let mut rec = simulate(&m, &model, c.rate, seconds, seed, duty.initial_rest_s, None);
+            let mut rec = simulate(
+                &m,
+                &model,
+                c.rate,
+                seconds,
+                seed,
+                duty.initial_rest_s,
+                None,
+                c.sensor.mount(),
+            );
             for (k, s) in rec.samples.iter().enumerate() {
                 rec.rest[k] = rec.scored[k] && duty_clock(&duty, s.t_s).1 == 0.0;
             }
@@ -491,7 +530,16 @@ fn make(c: &Condition, seed: u64) -> Rec {
             };
             let from = hand.params.initial_rest_s;
             with_rests(
-                simulate(&m, &model, c.rate, seconds, seed, from, None),
+                simulate(
+                    &m,
+                    &model,
+                    c.rate,
+                    seconds,
+                    seed,
+                    from,
+                    None,
+                    c.sensor.mount(),
+                ),
                 &hand,
             )
         }
@@ -525,7 +573,16 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     a: hand,
                     b: vibration(9.0, 1f64.to_radians(), Vec3::new(0.1, 0.08, 0.06)),
                 };
-                let rec = simulate(&m, &model, c.rate, seconds, seed, from, None);
+                let rec = simulate(
+                    &m,
+                    &model,
+                    c.rate,
+                    seconds,
+                    seed,
+                    from,
+                    None,
+                    c.sensor.mount(),
+                );
                 return with_rests(rec, &hand);
             }
             if let Kind::SlowVib | Kind::SlowBoom = c.kind {
@@ -539,12 +596,30 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
                 };
                 with_rests(
-                    simulate(&m, &model, c.rate, seconds, seed, from, None),
+                    simulate(
+                        &m,
+                        &model,
+                        c.rate,
+                        seconds,
+                        seed,
+                        from,
+                        None,
+                        c.sensor.mount(),
+                    ),
                     &hand,
                 )
             } else {
                 with_rests(
-                    simulate(&hand, &model, c.rate, seconds, seed, from, None),
+                    simulate(
+                        &hand,
+                        &model,
+                        c.rate,
+                        seconds,
+                        seed,
+                        from,
+                        None,
+                        c.sensor.mount(),
+                    ),
                     &hand,
                 )
             }
@@ -1038,7 +1113,16 @@ fn started_in_motion(seeds: u64, dynamic: &FilterSpec) {
             };
             let hand = HandMotion::new(p, seed);
             let model = Sensor::Calibrated.model(rate);
-            let mut rec = simulate(&hand, &model, rate, 120.0, seed, 0.0, None);
+            let mut rec = simulate(
+                &hand,
+                &model,
+                rate,
+                120.0,
+                seed,
+                0.0,
+                None,
+                Attitude::identity(),
+            );
             let (v, d) = (run_vqf(&rec), run_clino(&rec, dynamic));
             r[2] += rmse(&rec, &v);
             r[3] += rmse(&rec, &d);
@@ -1352,6 +1436,10 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::GyroBias, 40.0),
         (Kind::Held, Sensor::GyroBias, 100.0),
         (Kind::SlowVib, Sensor::GyroBias, 125.0),
+        (Kind::Hand, Sensor::Sideways, 40.0),
+        (Kind::Hand, Sensor::UpsideDown, 40.0),
+        (Kind::SlowVib, Sensor::Sideways, 125.0),
+        (Kind::SlowBoom, Sensor::UpsideDown, 125.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),
         (Kind::Slewing, Sensor::Bias, 200.0),
         (Kind::Slewing, Sensor::Bias, 50.0),

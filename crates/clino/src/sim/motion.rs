@@ -305,6 +305,33 @@ impl<M: Motion> Motion for Offset<M> {
     }
 }
 
+/// A sensor fixed to the moving body turned by `mount` (sensor frame to
+/// body frame): on its side on a wall or a boom's flank, upside down under
+/// a plate, or however one segment of a chain carries it. The sensor's
+/// point moves as the body's (put [`Offset`] inside for a lever arm); its
+/// attitude is the body's times the mount, q·m, and its rates are the
+/// body's seen in its own frame, m*·ω and m*·dω/dt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mounted<M> {
+    /// The body's motion.
+    pub motion: M,
+    /// The sensor's frame against the body's.
+    pub mount: Attitude,
+}
+
+impl<M: Motion> Motion for Mounted<M> {
+    fn truth(&self, t_s: f64) -> Truth {
+        let t = self.motion.truth(t_s);
+        let back = self.mount.inverse();
+        Truth {
+            attitude: t.attitude * self.mount,
+            gyr_rad_s: back * t.gyr_rad_s,
+            ang_acc_rad_s2: back * t.ang_acc_rad_s2,
+            ..t
+        }
+    }
+}
+
 /// A drum: the sensor turning one way about its own x axis, which stays
 /// horizontal at heading `heading_rad` (a tumbler or mixer drum, a rolling
 /// pipe, a wheel, a drill string laid down), in runs and stops: the rate is
@@ -407,6 +434,38 @@ mod tests {
             let dacc = (m.truth(t + h).vel_m_s - m.truth(t - h).vel_m_s) / (2.0 * h);
             assert_relative_eq!(dacc, tr.acc_m_s2, epsilon = 1e-7);
         }
+    }
+
+    #[test]
+    fn a_mounted_sensor_reads_the_body_s_motion_in_its_own_frame() {
+        // the rates still match the attitude's finite differences, and the
+        // specific force is the body's rotated into the sensor: on its side
+        // (90° about x) the body's z reading is the sensor's y, upside down
+        // its z reversed
+        let body = Conical::new(ConeAxis::X, 20f64.to_radians(), 0.7);
+        let side = Mounted {
+            motion: body,
+            mount: Attitude::from_scaled_axis(Vec3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0)),
+        };
+        check_derivatives(&side);
+        let down = Mounted {
+            motion: Static::level(),
+            mount: Attitude::from_scaled_axis(Vec3::new(std::f64::consts::PI, 0.0, 0.0)),
+        };
+        let (f_body, f_side) = (
+            body.truth(1.3).specific_force(9.8),
+            side.truth(1.3).specific_force(9.8),
+        );
+        assert_relative_eq!(
+            f_side,
+            Vec3::new(f_body.x, f_body.z, -f_body.y),
+            epsilon = 1e-12
+        );
+        assert_relative_eq!(
+            down.truth(0.5).specific_force(9.8),
+            Vec3::new(0.0, 0.0, -9.8),
+            epsilon = 1e-12
+        );
     }
 
     #[test]
