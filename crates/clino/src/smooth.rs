@@ -271,9 +271,9 @@ pub enum Stage {
     /// The drift candidate: its three learning passes and its two tilt
     /// passes (1 to 5, reported as one stage; see the [module docs](self)).
     Drift(u8),
-    /// The tilt passes with a gyro scale imposed: the learnt one, the three
-    /// steps of the fit and the fitted one (each pair 1 and 2; see the
-    /// [module docs](self)).
+    /// The tilt passes with a gyro scale imposed (1 to 10, reported as one
+    /// stage): the learnt one's pair, the three steps of the fit and the
+    /// fitted one's (see the [module docs](self)).
     Scale(u8),
     /// The whole-record refinement ([`refine_bounded_motion`]).
     Refine,
@@ -621,6 +621,9 @@ const DRIFT_EXPLAINS: f64 = 0.5;
 /// 0.2–0.41 (BENCHMARKS.md).
 const DRIFT_RATE_DEG_S_PER_MIN: f64 = 0.1;
 
+/// The passes of the gyro scale stage ([`Stage::Scale`]): five pairs.
+const SCALE_PASSES: usize = 10;
+
 /// How often the forward and backward passes' disagreement is kept for the
 /// scale fit, s: it changes over the loop's memory (1/`bandwidth_rad_s`,
 /// 6.7 s by default), so 0.1 s keeps all of it, in 48 bytes (four `f32`
@@ -761,7 +764,7 @@ fn smooth_regular(
                    each: &mut dyn FnMut(usize, &Pipeline)| {
         let (mut done, of) = match stage {
             Stage::Drift(k) => (usize::from(k - 1) * n, drift_passes),
-            Stage::Scale(k) => (usize::from(k - 1) * n, 2),
+            Stage::Scale(k) => (usize::from(k - 1) * n, SCALE_PASSES),
             _ => (0, 1),
         };
         pass(gyr, acc, &t, dt, reverse, f, bias, |i, f| {
@@ -984,7 +987,9 @@ fn smooth_regular(
     // the fit removes a quarter of what the learnt scale leaves, and would
     // make the tilt worse, 0.142° → 0.171°). The common case, neither,
     // leaves the passes' result as it is
-    let scale_stages = (Stage::Scale(1), Stage::Scale(2));
+    // (reported as one stage of SCALE_PASSES passes: the learnt scale's
+    // pair, the fit's three steps and the fitted scale's pair)
+    let scale_stages = |pair: u8| (Stage::Scale(2 * pair - 1), Stage::Scale(2 * pair));
     let mut best: Option<(Vec3, f64)> = None;
     let consider = |best: &mut Option<(Vec3, f64)>, s: Vec3, d: f64, explains: f64| {
         if d < (1.0 - explains) * d_chosen
@@ -995,7 +1000,7 @@ fn smooth_regular(
     };
     if opts.scale && chosen.gyro_scale != Vec3::zeros() {
         let s = chosen.gyro_scale;
-        let d = tilt(&chosen, false, scale_stages, Some(s), None);
+        let d = tilt(&chosen, false, scale_stages(1), Some(s), None);
         consider(&mut best, s, d, DRIFT_EXPLAINS);
     }
     if opts.scale && gap.iter().any(|g| g.iter().all(|v| v.is_finite())) {
@@ -1006,7 +1011,13 @@ fn smooth_regular(
                 let mut g = Vec::new();
                 let mut s = Vec3::zeros();
                 s[j] = SCALE_FIT_STEP;
-                tilt(&chosen, false, scale_stages, Some(s), Some(&mut g));
+                tilt(
+                    &chosen,
+                    false,
+                    scale_stages(2 + j as u8),
+                    Some(s),
+                    Some(&mut g),
+                );
                 g
             })
             .collect();
@@ -1019,7 +1030,7 @@ fn smooth_regular(
             opts.params.gyro_scale_sigma,
         );
         if let Some(s) = fit {
-            let d = tilt(&chosen, false, scale_stages, Some(s), None);
+            let d = tilt(&chosen, false, scale_stages(5), Some(s), None);
             consider(&mut best, s, d, SCALE_FIT_EXPLAINS);
         }
     }
@@ -2066,6 +2077,47 @@ mod tests {
         assert!(scale_fit(&none, cols, step, m as f64, sigma).is_none());
         assert!(scale_fit(&[], [&[], &[], &[]], step, 1.0, sigma).is_none());
         assert!(scale_fit(&gap, [cols[0], cols[1], &cols[2][1..]], step, 1.0, sigma).is_none());
+    }
+
+    #[test]
+    fn progress_stays_within_each_stage() {
+        // every report names a stage among the COUNT and a count within the
+        // record (a stage of several passes, the scale's ten among them,
+        // reports its share of each), and every stage run reports its end
+        let n = PROGRESS_EVERY + 1000;
+        let rate = 200.0;
+        let g: Vec<Vec3> = (0..n)
+            .map(|k| {
+                let t = k as f64 / rate;
+                Vec3::new(0.3 * (0.7 * t).sin(), 0.2 * (1.1 * t).cos(), 0.1)
+            })
+            .collect();
+        let mut a: Vec<Vec3> = (0..n)
+            .map(|k| Vec3::new(0.2 * (k as f64 * 1e-3).sin(), 0.1, 9.8))
+            .collect();
+        let dt = vec![1.0 / rate; n];
+        let mut seen: Vec<(Stage, usize)> = Vec::new();
+        let mut report = |stage: Stage, k: usize, of: usize| {
+            assert_eq!(of, n);
+            assert!(k <= n && stage.index() < Stage::COUNT, "{stage:?} {k}");
+            seen.push((stage, k));
+        };
+        let opts = SmoothOptions {
+            lever_arm_m: Some(Vec3::new(0.5, 0.0, 0.0)),
+            ..Default::default()
+        };
+        smooth_in_place(&g, &mut a, &dt, &opts, Some(&mut report));
+        for stage in [
+            Stage::Compensate,
+            Stage::Pass(1),
+            Stage::Scale(10),
+            Stage::Refine,
+        ] {
+            assert!(
+                seen.contains(&(stage, n)),
+                "{stage:?} never ended: {seen:?}"
+            );
+        }
     }
 
     #[test]
