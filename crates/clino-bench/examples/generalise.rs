@@ -468,6 +468,19 @@ fn sway_hz(seed: u64, lo: f64, hi: f64) -> f64 {
 fn make(c: &Condition, seed: u64) -> Rec {
     let model = c.sensor.model(c.rate);
     let seconds = 120.0;
+    // the condition's sensor, rate and mount; scored from `from` on
+    let sim = |m: &dyn Motion, from: f64| {
+        simulate(
+            m,
+            &model,
+            c.rate,
+            seconds,
+            seed,
+            from,
+            None,
+            c.sensor.mount(),
+        )
+    };
     match c.kind {
         Kind::Slewing | Kind::SlewingSway => {
             let mut m = SlewingPlatform {
@@ -507,16 +520,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 swing_hz: 0.1,
                 heading_rad: 0.7 + seed as f64,
             };
-            let mut rec = simulate(
-                &m,
-                &model,
-                c.rate,
-                seconds,
-                seed,
-                duty.initial_rest_s,
-                None,
-                c.sensor.mount(),
-            );
+            let mut rec = sim(&m, duty.initial_rest_s);
             for (k, s) in rec.samples.iter().enumerate() {
                 rec.rest[k] = rec.scored[k] && duty_clock(&duty, s.t_s).1 == 0.0;
             }
@@ -529,19 +533,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 r_body_m: Vec3::new(0.25, 0.05, 0.0),
             };
             let from = hand.params.initial_rest_s;
-            with_rests(
-                simulate(
-                    &m,
-                    &model,
-                    c.rate,
-                    seconds,
-                    seed,
-                    from,
-                    None,
-                    c.sensor.mount(),
-                ),
-                &hand,
-            )
+            with_rests(sim(&m, from), &hand)
         }
         Kind::Hand
         | Kind::Hand2x
@@ -573,16 +565,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     a: hand,
                     b: vibration(9.0, 1f64.to_radians(), Vec3::new(0.1, 0.08, 0.06)),
                 };
-                let rec = simulate(
-                    &m,
-                    &model,
-                    c.rate,
-                    seconds,
-                    seed,
-                    from,
-                    None,
-                    c.sensor.mount(),
-                );
+                let rec = sim(&m, from);
                 return with_rests(rec, &hand);
             }
             if let Kind::SlowVib | Kind::SlowBoom = c.kind {
@@ -595,33 +578,9 @@ fn make(c: &Condition, seed: u64) -> Rec {
                     a: hand,
                     b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
                 };
-                with_rests(
-                    simulate(
-                        &m,
-                        &model,
-                        c.rate,
-                        seconds,
-                        seed,
-                        from,
-                        None,
-                        c.sensor.mount(),
-                    ),
-                    &hand,
-                )
+                with_rests(sim(&m, from), &hand)
             } else {
-                with_rests(
-                    simulate(
-                        &hand,
-                        &model,
-                        c.rate,
-                        seconds,
-                        seed,
-                        from,
-                        None,
-                        c.sensor.mount(),
-                    ),
-                    &hand,
-                )
+                with_rests(sim(&hand, from), &hand)
             }
         }
     }
