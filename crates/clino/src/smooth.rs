@@ -77,7 +77,8 @@
 //! passes had then taken part of the scale error in their rest pairs for
 //! the accelerometer's errors, which are imposed from the first sample (a
 //! steady offset), so the whole smoothing runs again on the rates the
-//! fitted scale corrects. The slow arm with (+2, −1.5, +1) % errors,
+//! fitted scale corrects (not where the gyro clipped: a corrected rate no
+//! longer reads at the range; the scale is then imposed as it is). The slow arm with (+2, −1.5, +1) % errors,
 //! 8 seeds: on a boom swaying at 1.5–5 Hz 0.126° → 0.061° offline
 //! (offline VQF 0.096°); on a base vibrating at 30 Hz 0.118° → 0.065°
 //! (0.095°; 0.090° with the scale imposed but nothing learnt again);
@@ -1048,13 +1049,15 @@ fn smooth_regular(
             consider(&mut best, s, d, SCALE_FIT_EXPLAINS, true);
         }
     }
-    if let Some((s, _, true)) = best {
-        // the learning passes took the scale error in their rest pairs for
-        // the accelerometer's errors too, which are imposed from the first
-        // sample (the slow arm on a vibrating base with (+2, −1.5, +1) %:
-        // (−1.0, 1.5, −0.8) mg and (0.32, −0.05, −0.27) % learnt against
-        // (0.5, −0.4, 0.8) mg and 0.03 %, a steady 0.25° offset); with the
-        // scale known, everything runs again on the rates it corrects
+    // the learning passes took the scale error in their rest pairs for the
+    // accelerometer's errors too, which are imposed from the first sample
+    // (the slow arm on a vibrating base with (+2, −1.5, +1) %: (−1.0, 1.5,
+    // −0.8) mg and (0.32, −0.05, −0.27) % learnt against (0.5, −0.4, 0.8) mg
+    // and 0.03 %, a steady 0.25° offset); with the scale known, everything
+    // runs again on the rates it corrects. Not where the gyro clipped: a
+    // corrected rate would no longer read at the range, and the passes
+    // would not be told (the scale is then imposed as it is)
+    if let (Some((s, _, true)), None) = (best, &since) {
         drop((t, ups, gap, q, chosen));
         let one_less = Vec3::repeat(1.0) - s;
         let corrected: Vec<Vec3> = gyr.iter().map(|w| w.component_mul(&one_less)).collect();
@@ -1064,7 +1067,7 @@ fn smooth_regular(
         };
         return smooth_regular(&corrected, acc, dt, &again, progress);
     }
-    if let Some((s, _, false)) = best {
+    if let Some((s, _, _)) = best {
         tilt(
             &chosen,
             true,
