@@ -999,9 +999,10 @@ fn smooth_regular(
     // bias are one, is fitted at 1.68 % and learnt at 1.77 % of the 2 %:
     // the fit removes a quarter of what the learnt scale leaves, and would
     // make the tilt worse, 0.142° → 0.171°). The common case, neither,
-    // leaves the passes' result as it is
-    // (reported as one stage of SCALE_PASSES passes: the learnt scale's
-    // pair, the fit's three steps and the fitted scale's pair)
+    // leaves the passes' result as it is.
+    //
+    // (Reported as one stage of SCALE_PASSES passes: the learnt scale's
+    // pair, the fit's three steps and the fitted scale's pair.)
     let scale_stages = |pair: u8| (Stage::Scale(2 * pair - 1), Stage::Scale(2 * pair));
     // (the scale, the disagreement it leaves, and whether it is the fit)
     let mut best: Option<(Vec3, f64, bool)> = None;
