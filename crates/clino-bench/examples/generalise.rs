@@ -17,8 +17,9 @@
 //!
 //! The motions: a segment moved by hand (with 1-s rests, with poses held in
 //! the hand, with the sensor 0.25 m from the joint), a slow robot arm with and
-//! without a vibrating base (an engine's 8.75–30 Hz, and a structure swaying
-//! at 1.5–5 Hz, below the rest detector's vibration low-pass), a drum turning
+//! without a vibrating base (an engine's 8.75–30 Hz, a structure swaying
+//! at 1.5–5 Hz, below the rest detector's vibration low-pass, and a base
+//! rocking at 1.5–5 Hz with no linear sway), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
 //! excavator. The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms, a
@@ -404,6 +405,11 @@ enum Kind {
     /// the vibration low-pass's reach, where the engines of `SlowVib` are
     /// above it.
     SlowBoom,
+    /// The slow motion on a base rocking at 1.5–5 Hz by seed with the boom's
+    /// 2°/s of angular sway and no linear sway (a vehicle on its suspension,
+    /// a sensor near the pivot of a structure's mode): the specific force
+    /// hardly moves, the rate passes the rest detector's low-pass.
+    SlowRock,
     /// The hand motion with 1-s rests.
     ShortRests,
     /// The hand motion with its rests held in the hand, not set down
@@ -440,6 +446,7 @@ impl Kind {
             Kind::Slow => "slow",
             Kind::SlowVib => "slow+vib",
             Kind::SlowBoom => "slow+boom",
+            Kind::SlowRock => "slow+rock",
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
             Kind::Arm => "hand,arm0.25m",
@@ -541,10 +548,11 @@ fn make(c: &Condition, seed: u64) -> Rec {
         | Kind::Slow
         | Kind::SlowVib
         | Kind::SlowBoom
+        | Kind::SlowRock
         | Kind::ShortRests
         | Kind::Held => {
             let mut p = match c.kind {
-                Kind::Slow | Kind::SlowVib | Kind::SlowBoom => HandParams::slow(),
+                Kind::Slow | Kind::SlowVib | Kind::SlowBoom | Kind::SlowRock => HandParams::slow(),
                 Kind::Held => HandParams::held(),
                 _ => HandParams::by_hand(),
             };
@@ -568,15 +576,20 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 let rec = sim(&m, from);
                 return with_rests(rec, &hand);
             }
-            if let Kind::SlowVib | Kind::SlowBoom = c.kind {
-                let f = if let Kind::SlowBoom = c.kind {
+            if let Kind::SlowVib | Kind::SlowBoom | Kind::SlowRock = c.kind {
+                let f = if let Kind::SlowBoom | Kind::SlowRock = c.kind {
                     sway_hz(seed, 1.5, 5.0)
                 } else {
                     (0.35 * c.rate).min(30.0)
                 };
+                let linear = if let Kind::SlowRock = c.kind {
+                    Vec3::zeros()
+                } else {
+                    Vec3::new(1.5, 1.0, 1.2)
+                };
                 let m = Sum {
                     a: hand,
-                    b: vibration(f, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
+                    b: vibration(f, 2f64.to_radians(), linear),
                 };
                 with_rests(sim(&m, from), &hand)
             } else {
@@ -1399,6 +1412,9 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::UpsideDown, 40.0),
         (Kind::SlowVib, Sensor::Sideways, 125.0),
         (Kind::SlowBoom, Sensor::UpsideDown, 125.0),
+        (Kind::SlowRock, Sensor::Calibrated, 125.0),
+        (Kind::SlowRock, Sensor::GyroScale, 125.0),
+        (Kind::SlowRock, Sensor::Calibrated, 25.0),
         (Kind::Slewing, Sensor::Calibrated, 200.0),
         (Kind::Slewing, Sensor::Bias, 200.0),
         (Kind::Slewing, Sensor::Bias, 50.0),
