@@ -738,7 +738,8 @@ const SCALE_OBS_NOISE_RAD: f64 = 0.02;
 /// 1/6, 0.38 m/s² of the slow arm's base, over the 0.2-m/s² threshold: no
 /// short rest, and the learner waited for a rest proper that the 2-s rests
 /// never reach; now 1/12, 0.18 m/s²). A structure's sway (1.5–5 Hz: at
-/// 3 Hz half of 1.5 m/s² passes) is taken out before them by the rest detector's notch ([`Sway`]): they low-pass
+/// 3 Hz half of 1.5 m/s² passes) is taken out before them by the rest
+/// detector's notch ([`Sway`]): they low-pass
 /// the notched rate and specific force, so the slow arm's 2-s rests on a
 /// swaying boom are short rests as on a still base. (On the raw signals no
 /// short rest was seen there, the 2-s rests end before a rest proper is
@@ -3262,8 +3263,8 @@ mod tests {
             let shake = Vector3::new(amp * (2.0 * core::f64::consts::PI * hz * t).sin(), 0.0, 0.0);
             f.update(bias, f_b + shake, dt);
             if t > 20.0 {
-                // the sine's samples fall on 1/4 of a period's phases
-                // (8.75/25 = 7/20: every 20 samples repeat), its peaks between them
+                // (8.75/25 = 7/20: the samples fall on 20 phases of the
+                // sine, its peaks between them)
                 lo = lo.min(f.gsl.qa.x);
                 hi = hi.max(f.gsl.qa.x);
             }
