@@ -1418,6 +1418,8 @@ fn main() -> clino::Result<()> {
         (Kind::Slewing, Sensor::Calibrated, 200.0),
         (Kind::Slewing, Sensor::Bias, 200.0),
         (Kind::Slewing, Sensor::Bias, 50.0),
+        (Kind::Slewing, Sensor::Calibrated, 50.0),
+        (Kind::Slewing, Sensor::Calibrated, 25.0),
     ] {
         conditions.push(Condition {
             name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),

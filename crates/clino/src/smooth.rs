@@ -265,7 +265,23 @@ fn state(f: &Pipeline) -> Attitude {
 
 /// Half-width of the centred differentiator window, s (window 50 ms, as the
 /// real-time differentiator's, but centred: zero lag and a quarter of its noise).
+/// Never less than [`GAP_PERIODS`] sample periods, so that the window holds a
+/// neighbour on each side at any rate (at 25 Hz the 3-point central
+/// difference; [`centred_half_window`]).
 const CENTRED_HALF_WINDOW_S: f64 = 0.025;
+
+/// The centred differentiator's half-width for a recording stepped by `dt`:
+/// [`CENTRED_HALF_WINDOW_S`], widened to [`GAP_PERIODS`] typical steps where
+/// the sampling is slower than one step in 25 ms / 1.5 (≈ 60 Hz). Without
+/// the widening a ±25 ms window held the sample alone at 25 Hz (and at
+/// 40 Hz whenever a step rounded above 25 ms): ω̇ read zero and the
+/// tangential term r·ω̇ was left in (the slewing machine offline at 25 Hz
+/// 2.17° against 0.05° in real time).
+fn centred_half_window(dt: &[f64]) -> f64 {
+    typical_step(dt).map_or(CENTRED_HALF_WINDOW_S, |h| {
+        CENTRED_HALF_WINDOW_S.max(GAP_PERIODS * h)
+    })
+}
 
 /// A stage of the offline smoother, reported to a progress callback with the
 /// number of samples it has done (of `n`).
@@ -341,10 +357,13 @@ fn running_time(dt: &[f64]) -> Vec<f64> {
 /// Lever-arm compensation for a whole recording with a centred derivative.
 ///
 /// ω̇ at sample k is the slope of a least-squares line through the rates of
-/// the samples within ±25 ms (actual time stamps): the centred form of the
+/// the samples within ±25 ms (actual time stamps; at least the neighbours on
+/// each side below 60 Hz, [`centred_half_window`]): the centred form of the
 /// local polynomial fit, exact for quadratics, with no lag (which the
 /// real-time path cannot have) and a noise gain of about 0.06·σ/h for 15
-/// samples. The bias used for ω is `bias` (from a first pass).
+/// samples. At the recording's ends and beside lost samples the line takes
+/// the samples there are (two make a one-sided difference). The bias used
+/// for ω is `bias` (from a first pass).
 pub fn compensate_centred(
     gyr: &[Vec3],
     acc: &[Vec3],
@@ -368,6 +387,7 @@ pub fn compensate_centred_in_place(
 ) {
     let n = gyr.len().min(acc.len()).min(dt.len());
     let t = running_time(&dt[..n]);
+    let half = centred_half_window(&dt[..n]);
     // (the derivative's window reads the rate alone)
     let good = |k: usize| usable(&gyr[k], &Vec3::zeros());
     for k in 0..n {
@@ -375,16 +395,16 @@ pub fn compensate_centred_in_place(
             continue;
         }
         let (mut lo, mut hi) = (k, k);
-        while lo > 0 && t[k] - t[lo - 1] <= CENTRED_HALF_WINDOW_S {
+        while lo > 0 && t[k] - t[lo - 1] <= half {
             lo -= 1;
         }
-        while hi + 1 < n && t[hi + 1] - t[k] <= CENTRED_HALF_WINDOW_S {
+        while hi + 1 < n && t[hi + 1] - t[k] <= half {
             hi += 1;
         }
         let idx = || (lo..=hi).filter(|&i| good(i));
         let m = idx().count();
         let w = gyr[k] - bias;
-        let w_dot = if m >= 3 {
+        let w_dot = if m >= 2 {
             let tm = idx().map(|i| t[i]).sum::<f64>() / m as f64;
             let ym = idx().map(|i| gyr[i]).sum::<Vec3>() / m as f64;
             let sxx: f64 = idx().map(|i| (t[i] - tm).powi(2)).sum();
@@ -1632,6 +1652,52 @@ mod tests {
             off.iter()
                 .all(|x| (up_in_body(x).norm() - 1.0).abs() < 1e-9)
         );
+    }
+
+    /// The centred lever-arm compensation at low rates, against the truth: the
+    /// slewing machine without its engine, whose specific force at the sensor
+    /// is gravity plus the lever arm's tangential and centripetal terms. At
+    /// 25 Hz (and at 40 Hz, whose 25-ms steps round either side of the old
+    /// ±25-ms window) the window held the sample alone and ω̇ read zero: the
+    /// tangential term r·ω̇ (up to 2.5 m/s²) was left in.
+    #[test]
+    fn the_centred_compensation_takes_the_tangential_term_at_low_rates() {
+        let m = SlewingPlatform {
+            vibration_m_s2: 0.0,
+            vibration_rate_rad_s: 0.0,
+            ..Default::default()
+        };
+        for rate in [25.0, 40.0, 50.0, 200.0] {
+            let n = (40.0 * rate) as usize;
+            // steps a hair either side of the nominal period, as stamps give them
+            let dt: Vec<f64> = (0..n)
+                .map(|k| (1.0 + 1e-9 * if k % 2 == 0 { 1.0 } else { -1.0 }) / rate)
+                .collect();
+            let t = running_time(&dt);
+            let truth: Vec<_> = t.iter().map(|&tk| m.truth(tk)).collect();
+            let g: Vec<Vec3> = truth.iter().map(|tr| tr.gyr_rad_s).collect();
+            let a: Vec<Vec3> = truth
+                .iter()
+                .map(|tr| tr.specific_force(clino_core::G0))
+                .collect();
+            let out = compensate_centred(&g, &a, &dt, &m.lever_arm_m, &Vec3::zeros());
+            let (mut worst, mut left_in) = (0.0f64, 0.0f64);
+            for (k, tr) in truth.iter().enumerate().skip(1).take(n - 2) {
+                let up = tr
+                    .attitude
+                    .inverse_transform_vector(&Vec3::new(0.0, 0.0, clino_core::G0));
+                worst = worst.max((out[k] - up).norm());
+                left_in = left_in.max((a[k] - up).norm());
+            }
+            // the slews' ramps reach 1 rad/s² at 2.5 m: what was there to remove
+            assert!(left_in > 2.0, "{rate} Hz: {left_in}");
+            // a centred line's error at the ramps' corners, where ω̈ jumps by
+            // J = 2.7 rad/s³: J·T/4 for the 3-point difference of half-width
+            // T, 3·J·T/16 for a dense window; at 2.5 m, with a margin of 1.5
+            // (0.063 m/s² at 200 Hz, 0.10 at 25 Hz)
+            let bound = 1.5 * 2.5 * 2.7 * centred_half_window(&dt) / 4.0;
+            assert!(worst < bound, "{rate} Hz: {worst} m/s² (bound {bound})");
+        }
     }
 
     /// The Kalman/RTS pass of [`rts_axis`] against the same linear-Gaussian
