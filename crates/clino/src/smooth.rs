@@ -358,7 +358,7 @@ fn running_time(dt: &[f64]) -> Vec<f64> {
 ///
 /// ω̇ at sample k is the slope of a least-squares line through the rates of
 /// the samples within ±25 ms (actual time stamps; at least the neighbours on
-/// each side below 60 Hz, [`centred_half_window`]): the centred form of the
+/// each side below 60 Hz, `centred_half_window`): the centred form of the
 /// local polynomial fit, exact for quadratics, with no lag (which the
 /// real-time path cannot have) and a noise gain of about 0.06·σ/h for 15
 /// samples. At the recording's ends and beside lost samples the line takes

@@ -538,6 +538,38 @@ mod mount_tests {
         }
     }
 
+    /// Issue 13: the slewing machine at 50 Hz, its engine at 17.5 Hz (8.75
+    /// periods in a 0.5-s block), the accelerometer biased by 10 mg. The
+    /// bias is only observable once the first slew has turned it; how soon
+    /// it is learnt is the tilt error of the first seconds of that slew,
+    /// most of the whole recording's. Equally weighted 0.5-s blocks kept
+    /// 1/32 of the engine (0.04 m/s², learnt as the blocks' noise: the first
+    /// turn taught the bias slowly); the overlapping triangles keep 1/188,
+    /// and the noise's starting guess weighs 2 s of blocks, not 20.
+    #[test]
+    fn at_50_hz_the_first_slew_teaches_the_bias_quickly() {
+        let m = SlewingPlatform {
+            vibration_hz: 17.5,
+            ..Default::default()
+        };
+        let (model, _) = uncalibrated_bias();
+        let model = model.with_bandwidth(20.0);
+        let s = model.simulate(&m, 50.0, 16.0, 1);
+        let mut p = lever_given(&m);
+        let mut rms = Rms::default();
+        for smp in &s {
+            let q = p.update(smp).attitude.unwrap_or_else(Attitude::identity);
+            // the first slew starts at 10 s: its ramp, then a second at full rate
+            if (11.0..13.5).contains(&smp.t_s) {
+                rms.push(inclination_error(&q, &m.truth(smp.t_s).attitude));
+            }
+        }
+        let e = rms.value().to_degrees();
+        std::println!("{e}°");
+        // measured: 0.36° with the equal blocks, 0.22° now (0.7° before any turn)
+        assert!(e < 0.3, "{e}°");
+    }
+
     #[test]
     fn a_swaying_boom_does_not_hide_the_bias() {
         // The boom sways at 3 Hz (its first mode) instead of the engine's
