@@ -363,7 +363,8 @@ pub struct MountOptions {
     /// the filter measures a sway of its base (a boom at 1–8 Hz,
     /// [`crate::filter::Dynamic::sway_hz`]), a block is twice the whole
     /// number of its periods nearest to `block_s`/2, which leaves none of it
-    /// ([`MountEstimator::set_sway_hz`]).
+    /// ([`MountEstimator::set_sway_hz`]). Zero, negative or not finite: the
+    /// default.
     pub block_s: f64,
     /// Smallest 1σ of a block's unexplained specific force, m/s². Default
     /// 0.005 m/s² (accelerometer noise averaged over a block is ≈ 10× less).
@@ -682,7 +683,10 @@ impl MountEstimator {
     /// The next block: the triangle of `block_s`, or of twice the whole
     /// number of a known sway's periods nearest to `block_s`/2.
     fn new_block(&self) -> Block {
-        let t = self.opts.block_s;
+        let t = match self.opts.block_s {
+            t if t.is_finite() && t > 0.0 => t,
+            _ => MountOptions::default().block_s,
+        };
         let len = if self.sway_hz > 0.0 {
             let n = libm::round(0.5 * t * self.sway_hz).max(1.0);
             2.0 * n / self.sway_hz
@@ -792,6 +796,14 @@ mod tests {
         }
         for bad in [None, Some(0.0), Some(f64::NAN), Some(-2.0)] {
             e.set_sway_hz(bad);
+            assert_relative_eq!(e.new_block().len, 0.5);
+        }
+        // a block length that is no length is the default's
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = MountEstimator::new(MountOptions {
+                block_s: bad,
+                ..Default::default()
+            });
             assert_relative_eq!(e.new_block().len, 0.5);
         }
     }
