@@ -42,7 +42,8 @@
 //!    ([`clino_core::filter::Dynamic::gyro_doubt`], [`BoundedMotion::gyro_weight`]).
 //!
 //! *Drift.* The real-time loop learns the bias in motion with a time
-//! constant of about 75 s (made for a bias that holds for minutes), so a
+//! constant of about 75 s (made for a bias that holds for minutes and
+//! that rests keep told; a third of that while none has), so a
 //! board warming up (3 °C a minute: 0.004 °/s each second) is lagged by
 //! about 0.3 °/s, forwards and backwards alike: their mean misses a drift
 //! that the passes never caught up with (a hand holding poses without
