@@ -72,6 +72,10 @@
 //! and without any learning from rest pairs, on the sensors it is for and on
 //! calibrated ones, where it can only fit the pairs' noise.
 //!
+//! `--slewing-rates HZ[,HZ…]` runs the slewing machine's two tables at those
+//! sample rates instead of 200 Hz (its engine at 0.35 of the rate, at most
+//! 30 Hz, as on the grid's rows).
+//!
 //! `--export DIR` also writes every simulated recording but the slewing
 //! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
@@ -603,16 +607,18 @@ fn make(c: &Condition, seed: u64) -> Rec {
 /// lever arm given (without and with the bias estimator) and with
 /// `--lever-arm auto`, and the final estimates against the truth; with its
 /// engine's 30-Hz vibration, then with its boom swaying at 1.5–4.5 Hz.
-fn slewing_estimates(seeds: u64, dynamic: &FilterSpec) {
-    for kind in [Kind::Slewing, Kind::SlewingSway] {
-        slewing_table(seeds, dynamic, kind);
+fn slewing_estimates(seeds: u64, dynamic: &FilterSpec, rates: &[f64]) {
+    for &rate in rates {
+        for kind in [Kind::Slewing, Kind::SlewingSway] {
+            slewing_table(seeds, dynamic, kind, rate);
+        }
     }
 }
 
 /// [`slewing_estimates`] on one slewing machine.
-fn slewing_table(seeds: u64, dynamic: &FilterSpec, kind: Kind) {
+fn slewing_table(seeds: u64, dynamic: &FilterSpec, kind: Kind, rate: f64) {
     println!(
-        "\nslewing machine{}, accelerometer bias (7, -10, 5) mg, 200 Hz, 120 s: inclination RMSE, final estimates",
+        "\nslewing machine{}, accelerometer bias (7, -10, 5) mg, {rate} Hz, 120 s: inclination RMSE, final estimates",
         if let Kind::SlewingSway = kind {
             " with its boom swaying at 1.5-4.5 Hz (1 m/s², 1°/s)"
         } else {
@@ -627,9 +633,9 @@ fn slewing_table(seeds: u64, dynamic: &FilterSpec, kind: Kind) {
         name: String::new(),
         kind,
         sensor: Sensor::Bias,
-        rate: 200.0,
+        rate,
     };
-    let b_true = Sensor::Bias.model(200.0).accel.bias;
+    let b_true = Sensor::Bias.model(rate).accel.bias;
     let r_true = SlewingPlatform::default().lever_arm_m;
     let mut worst = [0.0f64; 3];
     for seed in 1..=seeds {
@@ -1306,6 +1312,7 @@ fn main() -> clino::Result<()> {
     let mut dynamic = FilterSpec::default();
     let mut broad = clino_bench::broad_dir();
     let mut export: Option<PathBuf> = None;
+    let mut slewing_rates = vec![200.0];
     let mut i = 0;
     while i < args.len() {
         let val = || {
@@ -1336,6 +1343,22 @@ fn main() -> clino::Result<()> {
                 i += 1;
             }
             "--no-broad" => broad = None,
+            "--slewing-rates" => {
+                let v = val()?;
+                slewing_rates = v
+                    .split(',')
+                    .map(|x| x.trim().parse::<f64>())
+                    .collect::<Result<Vec<_>, _>>()
+                    .ok()
+                    .filter(|r| !r.is_empty() && r.iter().all(|f| f.is_finite() && *f > 0.0))
+                    .ok_or_else(|| {
+                        clino::Error::new(
+                            clino::ErrorKind::InvalidInput,
+                            format!("--slewing-rates: positive sample rates in Hz, comma-separated, not '{v}'"),
+                        )
+                    })?;
+                i += 1;
+            }
             "--export" => {
                 export = Some(PathBuf::from(val()?));
                 i += 1;
@@ -1562,7 +1585,7 @@ fn main() -> clino::Result<()> {
         print_rest_table(&rest_rows);
     }
     if only.as_deref().is_none_or(|o| "slewing".contains(o)) {
-        slewing_estimates(seeds, &dynamic);
+        slewing_estimates(seeds, &dynamic, &slewing_rates);
     }
     if only.as_deref().is_none_or(|o| "lost".contains(o)) {
         lost_samples(seeds, &dynamic);
