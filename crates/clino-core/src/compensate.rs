@@ -438,6 +438,11 @@ type M39 = nalgebra::SMatrix<f64, 3, 9>;
 /// backwards), so z is linear in the state x = (m, b, r): a Kalman filter
 /// (equivalently, recursive least squares with priors) on block means,
 /// H = [I, mean R̂₀, mean R̂₀·(ω̇× + ω×ω×)], gives x and its covariance.
+/// The means are weighted by a triangle over each block, and the blocks
+/// overlap by half ([`MountOptions::block_s`]): any weighting keeps the
+/// model exact (z and H are averaged alike), and the triangle leaves a
+/// vibration far less of itself; each block counts as half an independent
+/// one in the gain.
 ///
 /// # Observability
 ///

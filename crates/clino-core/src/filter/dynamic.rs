@@ -720,6 +720,7 @@ const SCALE_SEGMENT_MAX_S: f64 = 60.0;
 /// BROAD 0.610° unchanged (BENCHMARKS.md). Tried always on (`bias_gain` 1):
 /// 59 of 82 rows worse.
 const UNINFORMED_BIAS_GAIN: f64 = 10.0 / 3.0;
+
 /// Largest miss of the gravity directions that is used, rad (60°), measured
 /// as an arc ([`arc_miss`]). A drum turning 40 rad between two stops with a
 /// 2 % gyro scale error misses by 46°; the linear model's error is then of
