@@ -1305,6 +1305,21 @@ fn export_name(condition: &str, seed: u64) -> String {
     format!("{slug}_s{seed}.csv")
 }
 
+/// `--slewing-rates`: positive sample rates in Hz, comma-separated.
+fn parse_rates(v: &str) -> clino::Result<Vec<f64>> {
+    v.split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<Vec<_>, _>>()
+        .ok()
+        .filter(|r| !r.is_empty() && r.iter().all(|f| f.is_finite() && *f > 0.0))
+        .ok_or_else(|| {
+            clino::Error::new(
+                clino::ErrorKind::InvalidInput,
+                format!("--slewing-rates: positive sample rates in Hz, comma-separated, not '{v}'"),
+            )
+        })
+}
+
 fn main() -> clino::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut seeds = 3u64;
@@ -1344,19 +1359,7 @@ fn main() -> clino::Result<()> {
             }
             "--no-broad" => broad = None,
             "--slewing-rates" => {
-                let v = val()?;
-                slewing_rates = v
-                    .split(',')
-                    .map(|x| x.trim().parse::<f64>())
-                    .collect::<Result<Vec<_>, _>>()
-                    .ok()
-                    .filter(|r| !r.is_empty() && r.iter().all(|f| f.is_finite() && *f > 0.0))
-                    .ok_or_else(|| {
-                        clino::Error::new(
-                            clino::ErrorKind::InvalidInput,
-                            format!("--slewing-rates: positive sample rates in Hz, comma-separated, not '{v}'"),
-                        )
-                    })?;
+                slewing_rates = parse_rates(&val()?)?;
                 i += 1;
             }
             "--export" => {
@@ -1610,4 +1613,32 @@ fn main() -> clino::Result<()> {
         println!();
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slewing_rates_are_parsed_and_change_the_machine() {
+        assert_eq!(parse_rates("25, 50,200").unwrap(), vec![25.0, 50.0, 200.0]);
+        for bad in ["", "50,", "x", "-3", "0", "NaN", "inf", "25;50"] {
+            assert!(parse_rates(bad).is_err(), "'{bad}'");
+        }
+        // the table's recording at each rate: its sample period, and its
+        // engine at 0.35 of the rate (at most 30 Hz) shaking the gyro
+        for rate in [25.0, 200.0] {
+            let c = Condition {
+                name: String::new(),
+                kind: Kind::Slewing,
+                sensor: Sensor::Bias,
+                rate,
+            };
+            let rec = make(&c, 1);
+            assert_eq!(rec.samples.len(), (120.0 * rate) as usize);
+            let dt = rec.samples[1].t_s - rec.samples[0].t_s;
+            assert!((dt - 1.0 / rate).abs() < 1e-9, "{rate} Hz: {dt}");
+            assert!(rec.lever.is_some());
+        }
+    }
 }

@@ -41,7 +41,7 @@
 //! Linearised per horizontal axis with U = v/g the loop is
 //! s³ + k_u·s² + k_θ·s + k_b = 0. With k_u = a·p, k_θ = b·p², k_b = c·p³ all
 //! three poles scale with one bandwidth p (rad/s); the defaults
-//! (a, b, c) = (1.5, 3, 0.3) place them at about −0.11p and −0.69p ± 1.47p·i
+//! (a, b, c) = (1.5, 3, 0.3) place them at about −0.11p and −0.70p ± 1.54p·i
 //! (a well-damped pair and a slow real pole for the bias).
 //!
 //! # Adaptation (from the physics, not from any data set)
@@ -710,7 +710,7 @@ const SCALE_SEGMENT_MAX_S: f64 = 60.0;
 /// turn-on bias, and at 0.11·p (a minute at p₀) it was left at 0.046–0.050°/s
 /// of the calibrated gyro's 0.064°/s after two minutes, where VQF's motion
 /// estimate reached 0.014–0.020°/s. At 1 the poles are −0.39·p and
-/// −0.56·p ± 1.50·p·i (from −0.11·p, −0.69·p ± 1.47·p·i): the bias pole
+/// −0.56·p ± 1.50·p·i (from −0.11·p, −0.70·p ± 1.54·p·i): the bias pole
 /// still the slowest and real. The raise fades as rests inform the bias,
 /// with what they have taught ([`REST_LEARNT_S`] of rest: by e), and comes
 /// back as that ages over `bias_memory_s` of motion. Measured
@@ -2866,11 +2866,7 @@ impl AttitudeFilter for Dynamic {
             } else {
                 // raised while no rest has told the bias (UNINFORMED_BIAS_GAIN)
                 let told = self.bias_info_s / REST_LEARNT_S;
-                let raise = if told < 20.0 {
-                    1.0 + (UNINFORMED_BIAS_GAIN - 1.0) * exp(-told)
-                } else {
-                    1.0
-                };
+                let raise = 1.0 + (UNINFORMED_BIAS_GAIN - 1.0) * exp(-told);
                 raise * p.bias_gain * p0 * p0 * self.inv.tilt_gain / bw
             };
             if self.rest || self.gsl.quick_time > QUICK_MIN_S {
@@ -3201,6 +3197,38 @@ mod tests {
             }
         }
         (s / n as f64).sqrt().to_degrees()
+    }
+
+    /// The loop's poles, the roots of s³ + a·s² + b·s + c (per unit p, the
+    /// default a = 1.5, b = 3), as the docs give them: for the default bias
+    /// gain c = 0.3 and for the raised one, c = 0.3 × `UNINFORMED_BIAS_GAIN`
+    /// = 1. The real root by bisection, the pair from the deflated quadratic.
+    #[test]
+    fn the_loop_poles_are_where_the_docs_say() {
+        let d = DynamicParams::default();
+        let (a, b) = (d.velocity_damping, d.tilt_gain);
+        for (c, real, pair) in [
+            (d.bias_gain, -0.11, (-0.70, 1.54)),
+            (d.bias_gain * UNINFORMED_BIAS_GAIN, -0.39, (-0.56, 1.50)),
+        ] {
+            let f = |s: f64| s * s * s + a * s * s + b * s + c;
+            let (mut lo, mut hi) = (-1.0, 0.0);
+            for _ in 0..100 {
+                let m = 0.5 * (lo + hi);
+                if f(m) > 0.0 { hi = m } else { lo = m }
+            }
+            let r = 0.5 * (lo + hi);
+            // s³ + a·s² + b·s + c = (s − r)(s² + (a + r)·s − c/r)
+            let (q1, q0) = (a + r, -c / r);
+            let (re, im) = (-q1 / 2.0, (q0 - q1 * q1 / 4.0).sqrt());
+            assert!((r - real).abs() < 0.005, "c {c}: real root {r}");
+            assert!(
+                (re - pair.0).abs() < 0.005 && (im - pair.1).abs() < 0.005,
+                "c {c}: {re} ± {im}i"
+            );
+            // the bias pole the slowest, and real
+            assert!(r.abs() < re.abs());
+        }
     }
 
     #[test]
