@@ -19,7 +19,8 @@
 //! the hand, with the sensor 0.25 m from the joint), a slow robot arm with and
 //! without a vibrating base (an engine's 8.75–30 Hz, a structure swaying
 //! at 1.5–5 Hz, below the rest detector's vibration low-pass, and a base
-//! rocking at 1.5–5 Hz with no linear sway), a drum turning
+//! rocking at 1.5–5 Hz with no linear sway), a sensor shaken to and fro
+//! with little rotation (BROAD's fast translations), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
 //! excavator. The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms, a
@@ -427,6 +428,10 @@ enum Kind {
     Hand2x,
     /// The hand motion at three times its speed (peaks of 6–13 rad/s, 4 g).
     Hand3x,
+    /// A sensor shaken to and fro by hand with little rotation (BROAD's
+    /// fast translations): ±0.1 m at 1–3 Hz (about 1 g at the peaks), tilt
+    /// and yaw within ±8° on the same clock, moves of 8 s, rests of 3 s.
+    Shake,
     /// The hand motion turning a segment about a joint 0.25 m from the
     /// sensor (a chain of segments moved by hand, a sensor on an arm): the
     /// sensor's tangential and centripetal accelerations turn with it
@@ -456,6 +461,7 @@ impl Kind {
             Kind::Arm => "hand,arm0.25m",
             Kind::Hand2x => "hand,2x",
             Kind::Hand3x => "hand,3x",
+            Kind::Shake => "shake",
             Kind::Drum => "drum",
             Kind::Slewing => "slewing+lever",
             Kind::SlewingSway => "slewing+sway+lever",
@@ -549,6 +555,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
         Kind::Hand
         | Kind::Hand2x
         | Kind::Hand3x
+        | Kind::Shake
         | Kind::Slow
         | Kind::SlowVib
         | Kind::SlowBoom
@@ -568,6 +575,12 @@ fn make(c: &Condition, seed: u64) -> Rec {
             p.band_hz = (p.band_hz.0 * speed, p.band_hz.1 * speed);
             if let Kind::ShortRests = c.kind {
                 p.rest_s = 1.0;
+            }
+            if let Kind::Shake = c.kind {
+                p.tilt_amplitude_rad = 8f64.to_radians();
+                p.yaw_amplitude_rad = 8f64.to_radians();
+                p.position_amplitude_m = 0.1;
+                p.band_hz = (1.0, 3.0);
             }
             let hand = HandMotion::new(p, seed);
             let from = p.initial_rest_s;
@@ -1428,6 +1441,9 @@ fn main() -> clino::Result<()> {
         (Kind::Hand2x, Sensor::Calibrated, 40.0),
         (Kind::Hand2x, Sensor::Calibrated, 100.0),
         (Kind::Hand3x, Sensor::WideGyro, 100.0),
+        (Kind::Shake, Sensor::Calibrated, 40.0),
+        (Kind::Shake, Sensor::Calibrated, 100.0),
+        (Kind::Shake, Sensor::GyroScale, 100.0),
         (Kind::Drum, Sensor::Calibrated, 100.0),
         (Kind::Drum, Sensor::GyroScale, 100.0),
         (Kind::Drum, Sensor::GyroScale, 25.0),
