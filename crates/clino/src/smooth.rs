@@ -74,12 +74,16 @@
 //! Gauss–Newton step with the learner's prior (`scale_fit`) the scale that
 //! explains it best. That scale is taken where it removes at least 85 % of
 //! the disagreement (`SCALE_FIT_EXPLAINS`: a fit always removes some), and
-//! half of what the learnt scale leaves if that was taken. The learning
-//! passes had then taken part of the scale error in their rest pairs for
-//! the accelerometer's errors, which are imposed from the first sample (a
-//! steady offset), so the whole smoothing runs again on the rates the
-//! fitted scale corrects (not where the gyro clipped: a corrected rate no
-//! longer reads at the range; the scale is then imposed as it is). The slow arm with (+2, −1.5, +1) % errors,
+//! half of what the learnt scale leaves if that was taken. Whichever scale
+//! is taken, the learning passes had taken part of the scale error in
+//! their rest pairs for the accelerometer's errors, which are imposed from
+//! the first sample (a steady offset), so the whole smoothing runs again
+//! on the rates the scale corrects (not where the gyro clipped: a
+//! corrected rate no longer reads at the range; the scale is then imposed
+//! as it is; with the learnt scale too since 6 Dec 2026, when held poses'
+//! pairs came to teach it well enough that no fit was taken after it: the
+//! slow arm on a vibrating base, 8 seeds, offline 0.064° → 0.061°, the
+//! drum 0.142° → 0.130°). The slow arm with (+2, −1.5, +1) % errors,
 //! 8 seeds: on a boom swaying at 1.5–5 Hz 0.126° → 0.061° offline
 //! (offline VQF 0.096°); on a base vibrating at 30 Hz 0.118° → 0.065°
 //! (0.095°; 0.090° with the scale imposed but nothing learnt again);
@@ -109,7 +113,7 @@
 //!
 //! Memory: the recording (56 bytes a sample: rate, specific force, interval)
 //! and at most 88 bytes a sample of working state (at 20 Hz and above; 112
-//! where a fitted gyro scale is taken) beyond the 32-byte
+//! where a gyro scale is taken) beyond the 32-byte
 //! attitudes returned ([`smooth_in_place`]), unlike the streaming real-time
 //! path, which holds nothing.
 
@@ -136,8 +140,8 @@ pub struct SmoothOptions {
     /// Impose the gyro scale factors the rest pairs taught, or those fitted
     /// to the forward and backward passes' disagreement, in the tilt passes
     /// where that brings them together (see the [module docs](self)).
-    /// Default on; off saves eight to twelve passes (and, where a fitted
-    /// scale is taken, the whole smoothing again).
+    /// Default on; off saves eight to twelve passes (and, where a scale is
+    /// taken, the whole smoothing again).
     pub scale: bool,
     /// The sensor's full-scale ranges, as the rates given read them
     /// ([`SensorRange`]): where the gyro clipped, the forward and backward
@@ -489,7 +493,7 @@ pub fn smooth(gyr: &[Vec3], acc: &[Vec3], dt: &[f64], opts: &SmoothOptions) -> V
 /// a sample at 25 Hz; 72 of refinement state and 16 of the two axes'
 /// results during the refinement), and the 32-byte attitudes returned.
 /// Below 20 Hz the scale fit keeps every sample: up to 116 bytes. Where a
-/// fitted gyro scale is taken, the smoothing runs again on a corrected copy
+/// gyro scale is taken, the smoothing runs again on a corrected copy
 /// of the rates: 24 bytes a sample more.
 pub fn smooth_in_place(
     gyr: &[Vec3],
@@ -1079,7 +1083,7 @@ fn smooth_regular(
     // runs again on the rates it corrects. Not where the gyro clipped: a
     // corrected rate would no longer read at the range, and the passes
     // would not be told (the scale is then imposed as it is)
-    if let (Some((s, _, true)), None) = (best, &since) {
+    if let (Some((s, _, _)), None) = (best, &since) {
         drop((t, ups, gap, q, chosen));
         let one_less = Vec3::repeat(1.0) - s;
         let corrected: Vec<Vec3> = gyr.iter().map(|w| w.component_mul(&one_less)).collect();
@@ -1502,6 +1506,50 @@ mod tests {
     fn tilt_err(a: &Attitude, b: &Attitude) -> f64 {
         let e = a * b.inverse();
         2.0 * (e.w * e.w + e.k * e.k).sqrt().min(1.0).acos()
+    }
+
+    #[test]
+    fn a_rocking_base_teaches_a_calibrated_sensor_no_error_from_its_held_poses() {
+        // The slow arm on a base rocking at 1.5–5 Hz (2°/s, no linear sway:
+        // never a rest) with a calibrated sensor, as the smoother's later
+        // passes run it: the bias given, so the arm's stops, held poses,
+        // end rest pairs. A held pose's pair compared the specific force
+        // 0.1 s late (its low-pass) with the attitude of one instant, which
+        // the rocking turns by up to 0.2°: the pairs taught accelerometer
+        // bias and gyro scale (RMS over eight seeds 0.77 mg, 0.115 %), which
+        // the smoother imposes on its tilt passes from the first sample
+        // (offline 1.19× offline VQF's error on the grid). With the held
+        // pose's means (the attitude's shifted by the low-pass's delay)
+        // 0.45 mg, 0.065 %.
+        use crate::sim::hand::{HandMotion, HandParams};
+        use crate::sim::motion::{Sum, vibration};
+        let rate = 125.0;
+        let model = crate::sim::slewing::sensor().with_bandwidth(50.0);
+        let (mut b2, mut s2) = (0.0, 0.0);
+        let seeds = 8;
+        for seed in 1..=seeds {
+            let f_rock = 1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract();
+            let m = Sum {
+                a: HandMotion::new(HandParams::slow(), seed),
+                b: vibration(f_rock, 2f64.to_radians(), Vec3::zeros()),
+            };
+            let samples = model.simulate(&m, rate, 120.0, seed);
+            let mut f = clino_core::filter::Dynamic::default();
+            f.set_gyro_bias(model.gyro.bias);
+            for s in &samples {
+                f.update(s.gyr_rad_s, s.acc_m_s2, 1.0 / rate);
+            }
+            assert!(f.rest_pairs() >= 5, "seed {seed}: {} pairs", f.rest_pairs());
+            b2 += f.accel_bias().norm_squared();
+            s2 += f.gyro_scale().norm_squared();
+        }
+        let b = (b2 / seeds as f64).sqrt() / (1e-3 * clino_core::G0);
+        let s = (s2 / seeds as f64).sqrt() * 100.0;
+        eprintln!(
+            "learnt on a calibrated sensor: accelerometer bias {b:.2} mg, gyro scale {s:.3} % (RMS)"
+        );
+        assert!(b < 0.6, "{b} mg");
+        assert!(s < 0.09, "{s} %");
     }
 
     #[test]
@@ -2114,18 +2162,21 @@ mod tests {
     }
 
     #[test]
-    fn with_a_fitted_gyro_scale_the_accelerometer_errors_are_learnt_again() {
+    fn with_a_gyro_scale_imposed_the_accelerometer_errors_are_learnt_again() {
         // on a base vibrating at 30 Hz the rest pairs form, and the learning
         // passes take part of the gyro's (+2, −1.5, +1) % scale errors for
         // the accelerometer's, imposed from the first sample: a steady
-        // offset the fitted scale alone does not remove
+        // offset the scale alone does not remove
         // Measured, with → with the scale imposed but not learnt again →
         // without a scale: seed 1 0.046° → 0.087° → 0.102°, seed 4 0.070° →
-        // 0.129° → 0.199°
+        // 0.129° → 0.199° (the fitted scale taken). Since the held poses'
+        // pairs end at their means (6 Dec 2026) the learnt scale is taken
+        // on seed 1, and no fit after it: 0.067° not learnt again, 0.042°
+        // learnt again, 0.070° without a scale; seed 4 0.061° and 0.192°
         for seed in [1, 4] {
             let (on, off, _) = arm_offline_by_scale(Vec3::new(0.02, -0.015, 0.01), seed, 30.0);
             println!("seed {seed}: {on}°, without a scale {off}°");
-            assert!(on < 0.6 * off, "seed {seed}: {on}° against {off}°");
+            assert!(on < 0.65 * off, "seed {seed}: {on}° against {off}°");
         }
     }
 
