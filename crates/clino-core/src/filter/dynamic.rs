@@ -126,8 +126,9 @@
 //!   [`DynamicParams::accel_scale_sigma`], [`DynamicParams::accel_bias_sigma`]).
 //!   A rest's end of a pair is the stillness's mean, of the specific force
 //!   and of the gyro's attitude alike (a mount still settling on, or
-//!   vibrating, is elsewhere at any one instant). A rest of a second, too short to be declared rest, still ends a pair:
-//!   the learner recognises stillness on its own two 0.05-s low-passes
+//!   vibrating, is elsewhere at any one instant). A rest of a second, too
+//!   short to be declared rest, still ends a pair: the learner recognises
+//!   stillness on its own two 0.05-s low-passes
 //!   (`QUICK_TAU_S`) and uses it when it lasted 0.5 s. A pose held in a
 //!   hand, creeping on at a degree a second, ends a pair too: the specific
 //!   force turns only as the gyro says (`HELD_GYR_RAD_S`). It ends it at
@@ -2781,7 +2782,7 @@ impl AttitudeFilter for Dynamic {
                 }
                 // once per held pose (a faster turn is not one) that is
                 // neither a rest nor a short rest: a rest pair on the gravity
-                // direction at this instant
+                // direction over the held pose so far
                 if l.held_slow_time > QUICK_MIN_S
                     && l.held_slow_time - dt <= QUICK_MIN_S
                     && !self.rest
@@ -2797,12 +2798,14 @@ impl AttitudeFilter for Dynamic {
                     // the turn over it). A held pose creeps on and may rock;
                     // at one instant the specific force was 0.1 s late (a
                     // pose creeping on at 1°/s, a perfect gyro: 0.029 % of
-                    // scale learnt, 0.0015 % with the means), and on a base
+                    // scale learnt, 0.0009 % with the means), and on a base
                     // rocking at 2°/s up to 0.2° apart. The next segment
                     // starts at the mean attitude (`l.seg` ends at the last
                     // step's body: this step is integrated below).
                     let delay = 2.0 * dt * ((1.0 - k_quick) / k_quick + 0.5);
-                    let dev = l.held_dev - l.held_rot * (delay / (l.held_n * dt));
+                    // (the turn over the window's n − 1 steps)
+                    let span = (l.held_n - 1.0).max(1.0) * dt;
+                    let dev = l.held_dev - l.held_rot * (delay / span);
                     let mean = exp_rotation(&step_rv, 1.0) * exp_rotation(&dev, 1.0);
                     let (seg, j, seg_time) = (l.seg * mean, l.j, l.seg_time);
                     let next = (mean.conjugate(), nalgebra::Matrix3::zeros(), 0.0);
