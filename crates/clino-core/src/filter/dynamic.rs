@@ -2652,12 +2652,16 @@ impl AttitudeFilter for Dynamic {
                 // the stillness's mean: at one instant a mount still settling
                 // on, or vibrating, is elsewhere (settling on at 0.3°/s, a
                 // perfect gyro learnt 0.33 % of scale, 0.14 % with the means).
-                // The next segment starts at the same mean; every rest sample
-                // restarts it at the last step's body, and the step to this
-                // sample is integrated below, at rest too.
+                // The next segment starts at the same mean: every rest sample
+                // restarts it at this sample's body (the segment is not
+                // integrated at rest), the mean being the last step's.
                 let dev = self.still_dev;
                 let (seg, j, seg_time) = (l.seg * exp_rotation(&dev, 1.0), l.j, l.seg_time);
-                let next = (exp_rotation(&dev, -1.0), nalgebra::Matrix3::zeros(), 0.0);
+                let next = (
+                    exp_rotation(&dev, -1.0) * exp_rotation(&step_rv, 1.0),
+                    nalgebra::Matrix3::zeros(),
+                    0.0,
+                );
                 l.observe(
                     p,
                     bias_sigma,
@@ -2798,7 +2802,7 @@ impl AttitudeFilter for Dynamic {
                     // the turn over it). A held pose creeps on and may rock;
                     // at one instant the specific force was 0.1 s late (a
                     // pose creeping on at 1°/s, a perfect gyro: 0.029 % of
-                    // scale learnt, 0.0009 % with the means), and on a base
+                    // scale learnt, 0.0005 % with the means), and on a base
                     // rocking at 2°/s up to 0.2° apart. The next segment
                     // starts at the mean attitude (`l.seg` ends at the last
                     // step's body: this step is integrated below).
@@ -2863,8 +2867,7 @@ impl AttitudeFilter for Dynamic {
             self.gap_steps = self.gap_steps.saturating_add(1);
         }
         let q = self.q.quaternion() * dq;
-        // (at rest too: see the rest pairs' ends)
-        if self.gsl.active {
+        if self.gsl.active && !self.rest {
             // J += C·diag(ω)·dt, C the rotation of the segment's quaternion (unit
             // to rounding: each step is; normalised where it is used)
             // the rotation between two rests, for the pairs, at the true
