@@ -528,6 +528,8 @@ pub struct Dynamic {
     /// `acc_mean`), as a rotation vector from the body at the last step
     /// (rad; small: a sway's or a tremor's angle).
     still_dev: Vec3,
+    /// The rotation since the stillness began (rad; small).
+    still_rot: Vec3,
     rate_lp: f64,
     still_time: f64,
     rest: bool,
@@ -1992,6 +1994,7 @@ impl Dynamic {
             gyr_lp: Vec3::zeros(),
             acc_mean: Vec3::zeros(),
             still_dev: Vec3::zeros(),
+            still_rot: Vec3::zeros(),
             rate_lp: 0.0,
             still_time: 0.0,
             rest: false,
@@ -2651,11 +2654,15 @@ impl AttitudeFilter for Dynamic {
                 // (`still_dev`), as the specific force it is compared with is
                 // the stillness's mean: at one instant a mount still settling
                 // on, or vibrating, is elsewhere (settling on at 0.3°/s, a
-                // perfect gyro learnt 0.33 % of scale, 0.14 % with the means).
+                // perfect gyro learnt 0.33 % of scale, 0.09 % with the means).
                 // The next segment starts at the same mean: every rest sample
                 // restarts it at this sample's body (the segment is not
                 // integrated at rest), the mean being the last step's.
-                let dev = self.still_dev;
+                // (the specific force's mean is of `acc_f`, two stages
+                // late: the attitude's mean is shifted by their delay)
+                let delay = 2.0 * dt * (1.0 - k_vib2) / k_vib2;
+                let span = (self.still_time - dt).max(dt);
+                let dev = self.still_dev - self.still_rot * (delay / span);
                 let (seg, j, seg_time) = (l.seg * exp_rotation(&dev, 1.0), l.j, l.seg_time);
                 let next = (
                     exp_rotation(&dev, -1.0) * exp_rotation(&step_rv, 1.0),
@@ -2802,7 +2809,7 @@ impl AttitudeFilter for Dynamic {
                     // the turn over it). A held pose creeps on and may rock;
                     // at one instant the specific force was 0.1 s late (a
                     // pose creeping on at 1°/s, a perfect gyro: 0.029 % of
-                    // scale learnt, 0.0005 % with the means), and on a base
+                    // scale learnt, 0.003 % with the means), and on a base
                     // rocking at 2°/s up to 0.2° apart. The next segment
                     // starts at the mean attitude (`l.seg` ends at the last
                     // step's body: this step is integrated below).
@@ -2888,9 +2895,16 @@ impl AttitudeFilter for Dynamic {
         // the stillness's mean attitude, carried to this step's body
         if self.still_time > 0.0 {
             let k = self.inv.k_window.max(dt / self.still_time);
-            self.still_dev = (self.still_dev - (w_prev + w) * (0.5 * dt)) * (1.0 - k);
+            let step = (w_prev + w) * (0.5 * dt);
+            self.still_dev = (self.still_dev - step) * (1.0 - k);
+            self.still_rot = if self.still_time > dt {
+                self.still_rot + step
+            } else {
+                Vec3::zeros()
+            };
         } else {
             self.still_dev = Vec3::zeros();
+            self.still_rot = Vec3::zeros();
         }
 
         // --- first two rows of the body-to-ENU matrix, specific force in ENU
@@ -4765,7 +4779,8 @@ mod tests {
         // the pairs learnt that as gyro scale. The stillness's mean attitude
         // is the running mean carried through each step.
         // (it also learns part of the settling as gyro bias, which the next
-        // motion carries: 0.14 % of scale is left, 0.33 % with the pairs
+        // motion carries: 0.09 % of scale is left (0.14 % with the attitude's
+        // mean not shifted by the specific force's delay), 0.33 % with the pairs
         // ending at the instant rest is declared)
         let p = DynamicParams::default();
         let creep = 0.3f64.to_radians();
