@@ -525,11 +525,8 @@ pub struct Dynamic {
     /// far (at most `rest_window_s`).
     acc_mean: Vec3,
     /// The mean attitude over the stillness so far (the window of
-    /// `acc_mean`), as a rotation vector from the body at the last step
-    /// (rad; small: a sway's or a tremor's angle).
-    still_dev: Vec3,
-    /// The rotation since the stillness began (rad; small).
-    still_rot: Vec3,
+    /// `acc_mean`), from the body at the last step.
+    still_mean: MeanAttitude,
     rate_lp: f64,
     still_time: f64,
     rest: bool,
@@ -680,13 +677,61 @@ struct ScaleLearner {
     held_time: f64,
     held_slow_time: f64,
     /// Over the held pose's slow time so far, sample by sample: the mean
-    /// low-passed specific force (`qa`, body), the mean attitude as a
-    /// rotation vector from this sample's body and the rotation since the
-    /// slow time began (rad; small), and the count of samples.
+    /// low-passed specific force (`qa`, body), the mean attitude from this
+    /// sample's body, and the count of samples.
     held_acc: Vec3,
-    held_dev: Vec3,
-    held_rot: Vec3,
+    held_mean: MeanAttitude,
     held_n: f64,
+}
+
+/// The delay of a ramp through two first-order stages of gain `k` a step of
+/// `dt` s (each dt·(1 − k)/k), each fed the mean of its input and the one
+/// before if `averaged` (half a step more: the learner's stages,
+/// [`quick_pole_tau`]), s.
+fn cascade_delay(dt: f64, k: f64, averaged: bool) -> f64 {
+    2.0 * dt * ((1.0 - k) / k + if averaged { 0.5 } else { 0.0 })
+}
+
+/// The mean attitude over a window of samples, as a rotation vector from
+/// the body at the latest sample, and the rotation over the window (rad;
+/// small angles, first order: a sway's, a tremor's, a creeping pose's): the
+/// attitude that a mean of the specific force over the same samples stands
+/// for, where a rest pair ends.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct MeanAttitude {
+    /// The mean attitude, from the latest sample's body.
+    dev: Vec3,
+    /// The rotation since the window's first sample.
+    rot: Vec3,
+    /// The time since the window's first sample, s.
+    span_s: f64,
+}
+
+impl MeanAttitude {
+    /// One more sample, weighted `k` in the mean (1: the window's first,
+    /// which restarts it), the body having turned by `step` (rad, body)
+    /// over the `dt` s since the last: the old mean is `step` further
+    /// behind, and the new sample's deviation is zero.
+    fn push(&mut self, step: Vec3, dt: f64, k: f64) {
+        if k >= 1.0 {
+            *self = Self::default();
+            return;
+        }
+        self.dev = (self.dev - step) * (1.0 - k);
+        self.rot += step;
+        self.span_s += dt;
+    }
+
+    /// The mean attitude that a signal `delay` s late stands for: the mean
+    /// of φ(t − D) over the window is the mean of φ less D times its mean
+    /// rate (exact for a steady turn).
+    fn lagged(&self, delay: f64) -> Vec3 {
+        if self.span_s > 0.0 {
+            self.dev - self.rot * (delay / self.span_s)
+        } else {
+            self.dev
+        }
+    }
 }
 
 /// The learner's state: gyro scale (3), accelerometer scale (3), bias (3).
@@ -1284,8 +1329,7 @@ impl ScaleLearner {
             held_time: 0.0,
             held_slow_time: 0.0,
             held_acc: Vec3::zeros(),
-            held_dev: Vec3::zeros(),
-            held_rot: Vec3::zeros(),
+            held_mean: MeanAttitude::default(),
             held_n: 0.0,
         }
     }
@@ -1993,8 +2037,7 @@ impl Dynamic {
             acc_f: Vec3::zeros(),
             gyr_lp: Vec3::zeros(),
             acc_mean: Vec3::zeros(),
-            still_dev: Vec3::zeros(),
-            still_rot: Vec3::zeros(),
+            still_mean: MeanAttitude::default(),
             rate_lp: 0.0,
             still_time: 0.0,
             rest: false,
@@ -2619,15 +2662,15 @@ impl AttitudeFilter for Dynamic {
         } else {
             0.0
         };
+        // this step's rotation (the strapdown's, to first order)
+        let step_rv = if self.w_prev.x.is_finite() {
+            (self.w_prev + w) * (0.5 * dt)
+        } else {
+            w * dt
+        };
         if (p.gyro_scale_sigma > 0.0 || p.accel_scale_sigma > 0.0 || bias_sigma > 0.0)
             && p.learn_bias
         {
-            // this step's rotation (the strapdown's, to first order)
-            let step_rv = if self.w_prev.x.is_finite() {
-                (self.w_prev + w) * (0.5 * dt)
-            } else {
-                w * dt
-            };
             let l = &mut self.gsl;
             let k_quick = self.inv.k_quick.max(mean_k);
             // (on the rate and specific force with a sway notched out, as
@@ -2651,7 +2694,7 @@ impl AttitudeFilter for Dynamic {
                 // with every pair; 0.86× (1.34), 0.049° with the rests' only;
                 // 0.78× (1.08), 0.044° with none (BENCHMARKS.md)
                 // The pair ends at the stillness's mean attitude
-                // (`still_dev`), as the specific force it is compared with is
+                // (`still_mean`), as the specific force it is compared with is
                 // the stillness's mean: at one instant a mount still settling
                 // on, or vibrating, is elsewhere (settling on at 0.3°/s, a
                 // perfect gyro learnt 0.33 % of scale, 0.09 % with the means).
@@ -2660,9 +2703,7 @@ impl AttitudeFilter for Dynamic {
                 // integrated at rest), the mean being the last step's.
                 // (the specific force's mean is of `acc_f`, two stages
                 // late: the attitude's mean is shifted by their delay)
-                let delay = 2.0 * dt * (1.0 - k_vib2) / k_vib2;
-                let span = (self.still_time - dt).max(dt);
-                let dev = self.still_dev - self.still_rot * (delay / span);
+                let dev = self.still_mean.lagged(cascade_delay(dt, k_vib2, false));
                 let (seg, j, seg_time) = (l.seg * exp_rotation(&dev, 1.0), l.j, l.seg_time);
                 let next = (
                     exp_rotation(&dev, -1.0) * exp_rotation(&step_rv, 1.0),
@@ -2781,12 +2822,7 @@ impl AttitudeFilter for Dynamic {
                     l.held_n += 1.0;
                     let k = 1.0 / l.held_n;
                     l.held_acc += (l.qa - l.held_acc) * k;
-                    l.held_dev = (l.held_dev - step_rv) * (1.0 - k);
-                    l.held_rot = if l.held_n > 1.0 {
-                        l.held_rot + step_rv
-                    } else {
-                        Vec3::zeros()
-                    };
+                    l.held_mean.push(step_rv, dt, k);
                 } else {
                     l.held_slow_time = 0.0;
                     l.held_n = 0.0;
@@ -2813,10 +2849,7 @@ impl AttitudeFilter for Dynamic {
                     // rocking at 2°/s up to 0.2° apart. The next segment
                     // starts at the mean attitude (`l.seg` ends at the last
                     // step's body: this step is integrated below).
-                    let delay = 2.0 * dt * ((1.0 - k_quick) / k_quick + 0.5);
-                    // (the turn over the window's n − 1 steps)
-                    let span = (l.held_n - 1.0).max(1.0) * dt;
-                    let dev = l.held_dev - l.held_rot * (delay / span);
+                    let dev = l.held_mean.lagged(cascade_delay(dt, k_quick, true));
                     let mean = exp_rotation(&step_rv, 1.0) * exp_rotation(&dev, 1.0);
                     let (seg, j, seg_time) = (l.seg * mean, l.j, l.seg_time);
                     let next = (mean.conjugate(), nalgebra::Matrix3::zeros(), 0.0);
@@ -2895,16 +2928,9 @@ impl AttitudeFilter for Dynamic {
         // the stillness's mean attitude, carried to this step's body
         if self.still_time > 0.0 {
             let k = self.inv.k_window.max(dt / self.still_time);
-            let step = (w_prev + w) * (0.5 * dt);
-            self.still_dev = (self.still_dev - step) * (1.0 - k);
-            self.still_rot = if self.still_time > dt {
-                self.still_rot + step
-            } else {
-                Vec3::zeros()
-            };
+            self.still_mean.push(step_rv, dt, k);
         } else {
-            self.still_dev = Vec3::zeros();
-            self.still_rot = Vec3::zeros();
+            self.still_mean = MeanAttitude::default();
         }
 
         // --- first two rows of the body-to-ENU matrix, specific force in ENU
@@ -4707,6 +4733,52 @@ mod tests {
         assert_eq!(f.motion_gyro_scale(), Vector3::zeros());
     }
 
+    #[test]
+    fn the_delays_the_means_are_shifted_by_are_the_filters_ramp_lags() {
+        // a specific force growing steadily along x (the rest of it still):
+        // the learner's low-pass `qa` and the rest detector's `acc_f` trail
+        // it by cascade_delay, at 25 Hz, 100 Hz and 1 kHz
+        for dt in [0.04, 0.01, 0.001] {
+            let mut f = Dynamic::default();
+            let slope = 0.02;
+            let n = (6.0 / dt) as usize;
+            for k in 0..=n {
+                let t = k as f64 * dt;
+                f.update(Vector3::zeros(), Vector3::new(slope * t, 0.0, G0), dt);
+            }
+            let t = n as f64 * dt;
+            let quick = (slope * t - f.gsl.qa.x) / slope;
+            let vib = (slope * t - f.acc_f.x) / slope;
+            let want_quick = cascade_delay(dt, f.inv.k_quick, true);
+            let want_vib = cascade_delay(dt, f.inv.k_vib2, false);
+            std::println!(
+                "dt {dt}: learner {quick} s ({want_quick}), rest detector {vib} s ({want_vib})"
+            );
+            approx::assert_relative_eq!(quick, want_quick, max_relative = 1e-6);
+            approx::assert_relative_eq!(vib, want_vib, max_relative = 1e-6);
+        }
+    }
+
+    #[test]
+    fn the_mean_attitude_is_the_closed_form_for_a_steady_turn() {
+        // n samples of a turn at ω (steps δ = ω·dt), weighted 1/i as a
+        // running mean: the mean attitude is (n − 1)/2 steps behind the
+        // last, and a signal D late stands for D·ω more
+        let (dt, w) = (0.01, Vector3::new(0.02, -0.01, 0.005));
+        let mut m = MeanAttitude::default();
+        let n = 150;
+        for i in 1..=n {
+            m.push(w * dt, dt, 1.0 / i as f64);
+        }
+        let behind = -w * dt * (n as f64 - 1.0) / 2.0;
+        approx::assert_relative_eq!(m.dev, behind, epsilon = 1e-13);
+        approx::assert_relative_eq!(m.lagged(0.1), behind - w * 0.1, epsilon = 1e-13);
+        // a first sample restarts it
+        m.push(w * dt, dt, 1.0);
+        assert_eq!(m, MeanAttitude::default());
+        assert_eq!(m.lagged(0.1), Vector3::zeros());
+    }
+
     /// A mount turned about x by ±40° (2 s each way, perfect sensors) that
     /// settles on in the direction of each turn at `creep` rad/s for 3 s of
     /// its 6-s stops: the gyro scale learnt from the rest pairs after a
@@ -4746,7 +4818,7 @@ mod tests {
             still.push(f.still_time > 0.0, angle);
         }
         let exact = still.mean() - angle;
-        (f.gyro_scale().x, f.still_dev.x, exact)
+        (f.gyro_scale().x, f.still_mean.dev.x, exact)
     }
 
     /// The running mean of the angles pushed while `on`, restarted by `!on`.
