@@ -72,7 +72,7 @@
 //! it: it is linear in the scale errors, so three more pairs of passes,
 //! each with one axis's scale stepped by 1 %, give its response, and one
 //! Gauss–Newton step with the learner's prior (`scale_fit`) the scale that
-//! explains it best. That scale is taken where it removes at least 85 % of
+//! explains it best. That scale is taken where it removes at least 75 % of
 //! the disagreement (`SCALE_FIT_EXPLAINS`: a fit always removes some), and
 //! half of what the learnt scale leaves if that was taken. Whichever scale
 //! is taken, the learning passes had taken part of the scale error in
@@ -84,10 +84,12 @@
 //! pairs came to teach it well enough that no fit was taken after it: the
 //! slow arm on a vibrating base, 8 seeds, offline 0.064° → 0.061°, the
 //! drum 0.142° → 0.130°). The slow arm with (+2, −1.5, +1) % errors,
-//! 8 seeds: on a boom swaying at 1.5–5 Hz 0.126° → 0.061° offline
-//! (offline VQF 0.096°); on a base vibrating at 30 Hz 0.118° → 0.065°
-//! (0.095°; 0.090° with the scale imposed but nothing learnt again);
-//! BROAD unchanged (its calibrated IMUs' fits remove 6–74 %).
+//! 8 seeds: on a boom swaying at 1.5–5 Hz 0.126° → 0.061° offline, 0.050°
+//! since the bar is 75 % (offline VQF 0.096°); on a base vibrating at
+//! 30 Hz 0.118° → 0.065° (0.095°; 0.090° with the scale imposed but nothing
+//! learnt again); on a base rocking at 1.5–5 Hz, where few rest pairs form,
+//! 0.098° at 85 %, 0.073° at 75 % (0.095°); BROAD unchanged (its calibrated
+//! IMUs' fits remove 7–72 %).
 //!
 //! *Clipping.* Given the sensor's ranges ([`SmoothOptions::sensor_range`]),
 //! every pass is told of a clipped gyro or accelerometer as the real-time
@@ -675,19 +677,36 @@ const SCALE_FIT_STEP: f64 = 0.01;
 /// the gyro scale fitted to it ([`scale_fit`]) must remove to be imposed.
 /// A scale fitted to the disagreement always removes some of it: by chance
 /// alone three of the record's independent stretches (its length over the
-/// loop's memory, 18 on two minutes), more where errors no model here holds
-/// turn with the motion (the rate's discretisation at 25 Hz, the
-/// accelerometer's scale errors, a real gyro's cross-axis terms); a gyro
-/// whose scale is off explains nearly all of it. Measured (8 seeds each):
-/// the grid's gyros with (+2, −1.5, +1) % errors 84–99 % removed (the slow
-/// arm on a vibrating base 87–97 %, on a swaying boom 84–97 %, the hand
-/// 89–99 %); calibrated gyros up to 83 % (the hand with 1-s rests at
-/// 25 Hz: 1–83 %; the slow arm with accelerometer errors ±5 %: 15–79 %);
-/// BROAD's calibrated IMUs 6–74 %. Taken where it is not the gyro's scale,
-/// the scale, and the accelerometer errors learnt again with it, cost
-/// those two rows 0.006° (at 75 %). The learnt scale, which the rest pairs
-/// found independently of the passes, needs only [`DRIFT_EXPLAINS`].
-const SCALE_FIT_EXPLAINS: f64 = 0.85;
+/// loop's memory, 18 on two minutes; for noise that share is Beta(3/2,
+/// 15/2)-distributed, above 50 % once in 75 records), more where errors no
+/// model here holds turn with the motion (the rate's discretisation at
+/// 25 Hz, the accelerometer's scale errors, a real gyro's cross-axis
+/// terms); a gyro whose scale is off explains most of it.
+///
+/// Measured (8 seeds each, 6 Dec 2026): the grid's gyros with (+2, −1.5,
+/// +1) % errors 77–100 % removed where the motion turns them (the slow arm
+/// on a rocking base 77–96 %, on a swaying boom 84–97 %, on a vibrating
+/// base 88–97 %, the hand 89–99 %, the drum 98–100 %; the sensor shaken
+/// within ±8°, where the scale costs little, 1–73 %); calibrated gyros up
+/// to 82 % (the hand with 1-s rests at 25 Hz 1–82 %, the sensor shaken at
+/// 40 Hz 1–78 %, the slow arm with accelerometer errors ±5 % 18–79 %);
+/// BROAD's calibrated IMUs 7–72 %.
+///
+/// The two mistakes do not cost alike: a fit taken where the gyro's scale
+/// is right cost those calibrated rows at most 0.002° (mean over the
+/// seeds; the shaken sensor gained 0.002°), one not taken where the scale
+/// is off left a rocking base's seed at 0.238° against 0.052°. So the bar
+/// is 75 %, not above every calibrated gyro's fit (85 % until 6 Dec 2026:
+/// the rocking base with gyro scale errors 0.098° → 0.073° offline, the
+/// swaying boom 0.061° → 0.050°; at 60 % the calibrated hand at 25 Hz
+/// gains 0.003–0.008° more and one row loses 0.005°). Holding half the
+/// record out of the fit as a check (alternate stretches of the loop's
+/// memory) does not tell the two apart: what the calibrated gyros' fits
+/// explain they explain out of sample as well (82 → 80 %, 78 → 73 %,
+/// against 77 → 73 % on the rocking base's seed). The learnt scale, which
+/// the rest pairs found independently of the passes, needs only
+/// [`DRIFT_EXPLAINS`].
+const SCALE_FIT_EXPLAINS: f64 = 0.75;
 
 /// The gyro scale errors that best explain the forward and backward tilt
 /// passes' disagreement: one Gauss–Newton step from no scale, with a prior.
@@ -2130,13 +2149,26 @@ mod tests {
     /// [`boom_offline_by_scale`] with the base moving at `hz` (30 Hz: an
     /// engine's vibration).
     fn arm_offline_by_scale(scale: Vec3, seed: u64, hz: f64) -> (f64, f64, bool) {
+        arm_on_base_offline_by_scale(scale, seed, hz, Vec3::new(1.5, 1.0, 1.2))
+    }
+
+    /// The slow arm on a base moving at `hz` with 2°/s of angular and
+    /// `linear` m/s² of linear amplitude: [`smooth`] with and without the
+    /// gyro scale (its RMS inclination errors, °, and whether they are the
+    /// same to the bit).
+    fn arm_on_base_offline_by_scale(
+        scale: Vec3,
+        seed: u64,
+        hz: f64,
+        linear: Vec3,
+    ) -> (f64, f64, bool) {
         use crate::sim::hand::{HandMotion, HandParams};
         use crate::sim::motion::{Sum, vibration};
         let arm = HandMotion::new(HandParams::slow(), seed);
         let from = arm.params.initial_rest_s;
         let boom = Sum {
             a: arm,
-            b: vibration(hz, 2f64.to_radians(), Vec3::new(1.5, 1.0, 1.2)),
+            b: vibration(hz, 2f64.to_radians(), linear),
         };
         let mut model = crate::sim::slewing::sensor().with_bandwidth(50.0);
         model.gyro.scale = scale;
@@ -2178,6 +2210,25 @@ mod tests {
             let (on, off, _) = arm_offline_by_scale(Vec3::new(0.02, -0.015, 0.01), seed, 30.0);
             println!("seed {seed}: {on}°, without a scale {off}°");
             assert!(on < 0.65 * off, "seed {seed}: {on}° against {off}°");
+        }
+    }
+
+    #[test]
+    fn a_rocking_base_with_gyro_scale_errors_takes_the_fitted_scale() {
+        // the slow arm on a base rocking at 1.5–5 Hz (2°/s, no linear sway:
+        // `generalise`'s slow+rock): few rest pairs, so the (+2, −1.5, +1) %
+        // scale errors are left to the fit, which removes 77–96 % of the
+        // passes' disagreement over the grid's 8 seeds
+        for seed in [2, 4] {
+            let hz = 1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract();
+            let (on, off, same) = arm_on_base_offline_by_scale(
+                Vec3::new(0.02, -0.015, 0.01),
+                seed,
+                hz,
+                Vec3::zeros(),
+            );
+            println!("seed {seed} ({hz:.2} Hz): with {on}°, without {off}°");
+            assert!(!same && on < 0.6 * off, "seed {seed}: {on}° against {off}°");
         }
     }
 
