@@ -398,14 +398,22 @@ impl Default for MountOptions {
 }
 
 /// The weight of the starting noise 1σ of [`MountEstimator`] (0.05 m/s²),
-/// as seconds of blocks: it is a guess, and the blocks measure the noise.
-/// With the 20-s forgetting alone ([`MountOptions::noise_tau_s`]) 60 % of
-/// the guess was left after a machine's 10-s initial rest, and the first
-/// slew then taught the bias slowly where the blocks' noise was a tenth of
-/// it. On the slewing machine at 50 Hz with the triangular blocks (before
-/// the overlap was weighted as half): 0.096° without this, 0.091° with it;
-/// 1 s and 5 s gave 0.090° and 0.094° (BENCHMARKS.md).
-pub const NOISE_PRIOR_S: f64 = 2.0;
+/// as seconds of blocks: it is a guess, worth one block (the default
+/// `block_s`), and the blocks measure the noise. The learnt variance is the
+/// mean of the guess and the blocks' (an inverse-gamma posterior), so a
+/// guess weighed as more lingers: at 2 s, a sixth of the guess's variance
+/// was still in it after a slewing machine's 10-s initial rest (the learnt
+/// 1σ 0.021 m/s² where its blocks' own was under half of that), and the
+/// first slew, where the bias turns and becomes observable, taught it over
+/// 2 s instead of 1.5. With the 20-s forgetting alone
+/// ([`MountOptions::noise_tau_s`]) 60 % of the guess was left. The slewing
+/// machine, 8 seeds, lever arm given, 25/50/100/200 Hz, mean: 2 s 0.092/
+/// 0.094/0.083/0.085°, 1 s 0.091/0.092/0.081/0.083°, 0.5 s 0.089/0.090/
+/// 0.079/0.082°; with `--lever-arm auto` (nine states learnt at once, where
+/// a noise too small early takes a block's chance for the arm) 0.098/0.099/
+/// 0.090/0.089° at 2 s, 0.098/0.098/0.088/0.090° at 0.5 s, 0.102/0.101/
+/// 0.093/0.099° at 0.25 s (BENCHMARKS.md).
+pub const NOISE_PRIOR_S: f64 = 0.5;
 
 type M9 = nalgebra::SMatrix<f64, 9, 9>;
 type V9 = nalgebra::SVector<f64, 9>;
@@ -866,6 +874,72 @@ mod tests {
         }
         let floor = MountOptions::default().noise_floor_m_s2;
         assert!(e.noise_sigma() < 2.0 * floor, "{}", e.noise_sigma());
+    }
+
+    /// A machine at rest for 10 s (its accelerometer's noise 0.03 m/s² a
+    /// sample at 50 Hz, bias (7, −10, 5) mg), then slewing about the
+    /// vertical, the rate rising to 1 rad/s over 1.5 s: the bias turns with
+    /// it and becomes observable. The noise learnt at rest is the blocks'
+    /// own more than the starting guess's, and the first turn teaches the
+    /// bias sooner. The blocks' own 1σ is 0.0069 m/s² (0.03 times the root
+    /// of a 25-sample triangle's Σw²/(Σw)²); learnt after the rest 0.021 with
+    /// the guess (0.05) weighed as 2 s of blocks, 0.013 as 0.5 s. Horizontal
+    /// bias error 0.75/1.0/1.25 s into the turn (12.2 mg at its start):
+    /// 12.1/10.7/7.1 mg at 2 s, 11.8/8.6/4.6 mg at 0.5 s.
+    #[test]
+    fn the_first_turn_after_a_rest_teaches_the_bias_sooner() {
+        let mut e = MountEstimator::new(MountOptions::default());
+        let dt = 0.02;
+        let b = Vec3::new(7.0, -10.0, 5.0) * 1e-3 * crate::G0;
+        let tilt = Attitude::from_scaled_axis(Vec3::new(0.05, -0.04, 0.0));
+        // white noise from a fixed xorshift (sum of 12 uniforms: unit variance)
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut gauss = || {
+            let mut s = -6.0;
+            for _ in 0..12 {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                s += (x >> 11) as f64 / (1u64 << 53) as f64;
+            }
+            s
+        };
+        let (mut psi, mut w) = (0.0, 0.0);
+        let mut errors = [f64::NAN; 3];
+        let mut noise = f64::NAN;
+        for k in 0..(12.0 / dt) as usize {
+            let t = k as f64 * dt;
+            let w_prev = w;
+            w = if t < 10.0 {
+                0.0
+            } else {
+                let u = ((t - 10.0) / 1.5).min(1.0);
+                u * u * (3.0 - 2.0 * u)
+            };
+            psi += 0.5 * (w + w_prev) * dt;
+            let q = Attitude::from_scaled_axis(Vec3::new(0.0, 0.0, psi)) * tilt;
+            let g_body = q.inverse_transform_vector(&Vec3::new(0.0, 0.0, crate::G0));
+            let n = Vec3::new(gauss(), gauss(), gauss()) * 0.03;
+            let w_body = q.inverse_transform_vector(&Vec3::new(0.0, 0.0, w));
+            e.observe(
+                &q,
+                &Attitude::identity(),
+                &(g_body + b + n),
+                &w_body,
+                &Vec3::zeros(),
+                dt,
+            );
+            if (t - 10.0).abs() < 0.5 * dt {
+                noise = e.noise_sigma();
+            }
+            for (i, at) in [10.75, 11.0, 11.25].into_iter().enumerate() {
+                if (t - at).abs() < 0.5 * dt {
+                    errors[i] = (e.accel_bias() - b).xy().norm() / (1e-3 * crate::G0);
+                }
+            }
+        }
+        assert!(noise < 0.015, "learnt 1σ {noise} m/s²");
+        assert!(errors[1] < 9.6 && errors[2] < 5.8, "{errors:?} mg");
     }
 
     #[test]
