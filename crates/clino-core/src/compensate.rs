@@ -403,9 +403,12 @@ impl Default for MountOptions {
 /// mean of the guess and the blocks' (an inverse-gamma posterior), so a
 /// guess weighed as more lingers: at 2 s, a sixth of the guess's variance
 /// was still in it after a slewing machine's 10-s initial rest (the learnt
-/// 1σ 0.021 m/s² where its blocks' own was under half of that), and the
-/// first slew, where the bias turns and becomes observable, taught it over
-/// 2 s instead of 1.5. With the 20-s forgetting alone
+/// 1σ 0.021 m/s²; 0.0216 in the test below, where the blocks' own is
+/// 0.0069), and the first slew, where the bias turns and becomes
+/// observable, taught it slowly (at 50 Hz, seed 1: (1.3, −2.4), (3.8, −7.7),
+/// (6.8, −8.6) mg 1, 1.5 and 2 s into the slew, truth (7, −10); the first
+/// 2 s of slewing hold most of the run's mean-square error). With the
+/// 20-s forgetting alone
 /// ([`MountOptions::noise_tau_s`]) 60 % of the guess was left. The slewing
 /// machine, 8 seeds, lever arm given, 25/50/100/200 Hz, mean: 2 s 0.092/
 /// 0.094/0.083/0.085°, 1 s 0.091/0.092/0.081/0.083°, 0.5 s 0.089/0.090/
