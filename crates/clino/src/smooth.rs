@@ -1190,8 +1190,13 @@ fn carry_over_delay(q: &mut [Attitude], dt: &[f64], periods: f64) {
 /// The tilt corrections an attitude sequence `q` made beyond the gyro, per
 /// sample, in the form [`rts_axis`] takes them: for e_k, the rotation vector
 /// of q_k ⊗ (q_{k−1} ⊗ Δq_k)*, where Δq_k is the gyro's step over the
-/// interval ending at sample k (the rate (ω − b)·(1 − s) linear between
-/// samples k−1 and k, with the two-sample coning term, as in the filter),
+/// interval ending at sample k (the rate (ω − b)·(1 − s) cubic through
+/// samples k−2 … k+1 where their steps are alike, its mean over the step
+/// (−ω₋₂ + 13·ω₋₁ + 13·ω₀ − ω₊₁)/24, else linear between samples k−1 and
+/// k; with the two-sample coning term, as in the filter: a rate linear
+/// between samples keeps 1 − (Ωh)²/12 of a turn's amplitude at angular
+/// frequency Ω, which the refinement would pull the passes back to,
+/// [`clino_core::filter::Dynamic`]'s strapdown step),
 /// the entries (−e_N, e_E): the steps of the tilt
 /// error states (δ_N, −δ_E) of the refinement when the gyro is right.
 /// Samples the passes' pipeline did not use (a NaN, a reading beyond the
@@ -1214,15 +1219,28 @@ fn beyond_gyro(
         .min(dt.len());
     let one_s = Vec3::repeat(1.0) - scale;
     let mut out = vec![[0.0f32; 2]; n];
-    let mut w_prev: Option<Vec3> = None;
-    for k in 0..n {
+    // the corrected rate of each sample the passes used
+    let rate = |k: usize| -> Option<Vec3> {
         let used = usable(&gyr[k], &acc[k]) && dt[k].is_finite() && dt[k] > 0.0;
         let w = (gyr[k] - bias[k]).component_mul(&one_s);
-        if !(used && w.iter().all(|v| v.is_finite())) {
+        (used && w.iter().all(|v| v.is_finite())).then_some(w)
+    };
+    // (one sample clock's steps: clino_core's STEPS_ALIKE)
+    let alike = |a: f64, b: f64| (a - b).abs() < 0.1 * b;
+    let mut w_prev: Option<Vec3> = None;
+    for k in 0..n {
+        let Some(w) = rate(k) else {
             continue;
-        }
+        };
         if let (Some(wp), true) = (w_prev, k > 0) {
-            let phi = ((w + wp) * 0.5 + wp.cross(&w) * (dt[k] / 12.0)) * dt[k];
+            // the cubic through k−2 … k+1, over equal steps
+            let cubic = (k >= 2 && k + 1 < n)
+                .then(|| (rate(k - 2), rate(k - 1), rate(k + 1)))
+                .and_then(|(a, b, c)| Some((a?, b?, c?)))
+                .filter(|_| alike(dt[k - 1], dt[k]) && alike(dt[k + 1], dt[k]))
+                .map(|(wpp, _, wn)| (wp + w) * (13.0 / 24.0) - (wpp + wn) * (1.0 / 24.0));
+            let mean = cubic.unwrap_or((w + wp) * 0.5);
+            let phi = (mean + wp.cross(&w) * (dt[k] / 12.0)) * dt[k];
             let pred = q[k - 1] * UnitQuaternion::from_scaled_axis(phi);
             let e = (q[k] * pred.inverse()).scaled_axis();
             if e.iter().all(|v| v.is_finite()) {
