@@ -494,8 +494,9 @@ pub struct Dynamic {
     inv: Reciprocals,
     q: Attitude,
     bias: Vec3,
-    /// The corrected rate of the previous step (the trapezoid and the coning
-    /// term; NaN when there is none: a set attitude before its first step).
+    /// The corrected rate of the previous step (the strapdown step's and the
+    /// coning term's; NaN when there is none: a set attitude before its
+    /// first step).
     w_prev: Vec3,
     /// The rate of the sample before `w_prev` and the step from it to
     /// `w_prev`, s (NaN: none yet).
@@ -1190,10 +1191,15 @@ fn rotation_step_quadratic(
     if !(h1 > 0.0 && (h - h1).abs() < STEPS_ALIKE * h1 && wpp.iter().all(|v| v.is_finite())) {
         return rotation_step(w_prev, w, dt);
     }
-    let a = (2.0 * h + 3.0 * h1) / (6.0 * (h + h1));
-    let b = (h + 3.0 * h1) / (6.0 * h1);
-    let c = -h * h / (6.0 * h1 * (h + h1));
-    let mean = w * a + w_prev * b + wpp * c;
+    let mean = if h == h1 {
+        // (a sensor's own clock: equal steps, the rule's own weights)
+        (w * 5.0 + w_prev * 8.0 - wpp) * (1.0 / 12.0)
+    } else {
+        let a = (2.0 * h + 3.0 * h1) / (6.0 * (h + h1));
+        let b = (h + 3.0 * h1) / (6.0 * h1);
+        let c = -h * h / (6.0 * h1 * (h + h1));
+        w * a + w_prev * b + wpp * c
+    };
     exp_rotation(&(mean + w_prev.cross(w) * (dt / 12.0)), dt)
 }
 
