@@ -4987,51 +4987,62 @@ mod tests {
         assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} != {b}");
     }
 
-    #[test]
-    fn the_coning_term_follows_turns_whose_axis_turns() {
-        // A hand-like rate whose axis turns: ω = (2 sin 2π·0.5t,
-        // 2 cos 2π·0.7t, 1.5 sin(2π·0.3t + 1)) rad/s, 20 s, sampled at
-        // the instants k·h. The independent value is the same motion
-        // integrated at 5 kHz. At 25 Hz the trapezoid alone (the rate linear
-        // between samples, without the term that makes turns about a
-        // turning axis commute) is measured against the trapezoid with the
-        // two-sample coning term.
-        let rate = |t: f64| {
-            let tau = 2.0 * core::f64::consts::PI;
-            Vector3::new(
-                2.0 * (tau * 0.5 * t).sin(),
-                2.0 * (tau * 0.7 * t).cos(),
-                1.5 * (tau * 0.3 * t + 1.0).sin(),
-            )
-        };
-        let integrate = |hz: f64, coning: bool, every: usize| {
+    /// A hand-like rate whose axis turns: ω = (2 sin 2π·0.5t, 2 cos 2π·0.7t,
+    /// 1.5 sin(2π·0.3t + 1)) rad/s (the strapdown tests' motion).
+    fn hand_turn_rate(t: f64) -> Vector3<f64> {
+        let tau = 2.0 * core::f64::consts::PI;
+        Vector3::new(
+            2.0 * (tau * 0.5 * t).sin(),
+            2.0 * (tau * 0.7 * t).cos(),
+            1.5 * (tau * 0.3 * t + 1.0).sin(),
+        )
+    }
+
+    /// Tilt RMS (°) of [`hand_turn_rate`] over 20 s, sampled at the
+    /// instants k·h at 25 Hz and integrated by `step(k, h)` (the step
+    /// ending at sample k), against the same motion integrated at 5 kHz.
+    fn hand_turn_tilt_rms(step: impl Fn(usize, f64) -> Quaternion<f64>) -> f64 {
+        let integrate = |hz: f64, every: usize, step: &dyn Fn(usize, f64) -> Quaternion<f64>| {
             let h = 1.0 / hz;
             let mut q = Quaternion::identity();
             let mut out = std::vec::Vec::new();
             for k in 1..=(20.0 * hz) as usize {
-                let (wp, w) = (rate((k - 1) as f64 * h), rate(k as f64 * h));
-                q *= if coning {
-                    rotation_step(&wp, &w, h)
-                } else {
-                    UnitQuaternion::from_scaled_axis((wp + w) * (0.5 * h)).into_inner()
-                };
+                q *= step(k, h);
                 if k % every == 0 {
                     out.push(UnitQuaternion::from_quaternion(q));
                 }
             }
             out
         };
-        let reference = integrate(5000.0, true, 200);
-        let tilt_rms = |coning: bool| {
-            let est = integrate(25.0, coning, 1);
-            let mut sum = 0.0;
-            for (e, r) in est.iter().zip(&reference) {
-                sum += tilt_err(e, r).powi(2);
-            }
-            (sum / est.len() as f64).sqrt().to_degrees()
+        let fine = |k: usize, h: f64| {
+            rotation_step(
+                &hand_turn_rate((k - 1) as f64 * h),
+                &hand_turn_rate(k as f64 * h),
+                h,
+            )
         };
+        let reference = integrate(5000.0, 200, &fine);
         assert_eq!(reference.len(), 500);
-        let (single, two) = (tilt_rms(false), tilt_rms(true));
+        let est = integrate(25.0, 1, &step);
+        let mut sum = 0.0;
+        for (e, r) in est.iter().zip(&reference) {
+            sum += tilt_err(e, r).powi(2);
+        }
+        (sum / est.len() as f64).sqrt().to_degrees()
+    }
+
+    #[test]
+    fn the_coning_term_follows_turns_whose_axis_turns() {
+        // [`hand_turn_rate`] at 25 Hz: the trapezoid alone (the rate linear
+        // between samples, without the term that makes turns about a
+        // turning axis commute) against the trapezoid with the two-sample
+        // coning term
+        let (w, t) = (hand_turn_rate, |k: usize, h: f64| k as f64 * h);
+        let single = hand_turn_tilt_rms(|k, h| {
+            let v = (w(t(k - 1, h)) + w(t(k, h))) * (0.5 * h);
+            UnitQuaternion::from_scaled_axis(v).into_inner()
+        });
+        let two = hand_turn_tilt_rms(|k, h| rotation_step(&w(t(k - 1, h)), &w(t(k, h)), h));
         std::println!("tilt RMS at 25 Hz: trapezoid alone {single}°, with the coning term {two}°");
         assert!(single > 0.05, "{single}°");
         assert!(two < 0.8 * single, "{two}° against {single}°");
@@ -5071,46 +5082,17 @@ mod tests {
                 rotation_step(&wp, &w1, 0.04)
             );
         }
-        // a hand-like turn whose axis turns, sampled at 25 Hz, against the
-        // same motion integrated at 5 kHz (as the coning test below): the
-        // rate linear between samples keeps 1 − (Ωh)²/12 of each turn,
-        // the quadratic nearly all of it
-        let rate = |t: f64| {
-            let tau = 2.0 * core::f64::consts::PI;
-            Vector3::new(
-                2.0 * (tau * 0.5 * t).sin(),
-                2.0 * (tau * 0.7 * t).cos(),
-                1.5 * (tau * 0.3 * t + 1.0).sin(),
-            )
-        };
-        let integrate = |hz: f64, quadratic: bool, every: usize| {
-            let h = 1.0 / hz;
-            let mut q = Quaternion::identity();
-            let mut out = std::vec::Vec::new();
-            for k in 1..=(20.0 * hz) as usize {
-                let t = |j: usize| j as f64 * h;
-                let (wp, w) = (rate(t(k - 1)), rate(t(k)));
-                q *= if quadratic && k >= 2 {
-                    rotation_step_quadratic(&(rate(t(k - 2)), h), &wp, &w, h)
-                } else {
-                    rotation_step(&wp, &w, h)
-                };
-                if k % every == 0 {
-                    out.push(UnitQuaternion::from_quaternion(q));
-                }
+        // [`hand_turn_rate`] at 25 Hz: the rate linear between samples keeps
+        // 1 − (Ωh)²/12 of each turn, the quadratic nearly all of it
+        let (w, t) = (hand_turn_rate, |k: usize, h: f64| k as f64 * h);
+        let linear = hand_turn_tilt_rms(|k, h| rotation_step(&w(t(k - 1, h)), &w(t(k, h)), h));
+        let quadratic = hand_turn_tilt_rms(|k, h| {
+            if k >= 2 {
+                rotation_step_quadratic(&(w(t(k - 2, h)), h), &w(t(k - 1, h)), &w(t(k, h)), h)
+            } else {
+                rotation_step(&w(t(k - 1, h)), &w(t(k, h)), h)
             }
-            out
-        };
-        let reference = integrate(5000.0, true, 200);
-        let tilt_rms = |quadratic: bool| {
-            let est = integrate(25.0, quadratic, 1);
-            let mut sum = 0.0;
-            for (e, r) in est.iter().zip(&reference) {
-                sum += tilt_err(e, r).powi(2);
-            }
-            (sum / est.len() as f64).sqrt().to_degrees()
-        };
-        let (linear, quadratic) = (tilt_rms(false), tilt_rms(true));
+        });
         std::println!("tilt RMS at 25 Hz: rate linear {linear}°, quadratic {quadratic}°");
         assert!(quadratic < 0.5 * linear, "{quadratic}° against {linear}°");
     }
