@@ -119,6 +119,7 @@
 //! attitudes returned ([`smooth_in_place`]), unlike the streaming real-time
 //! path, which holds nothing.
 
+use clino_core::filter::dynamic::STEPS_ALIKE;
 use clino_core::filter::{DynamicParams, FilterSpec};
 use clino_core::pipeline::{Pipeline, SensorRange};
 use clino_core::tilt::up_in_body;
@@ -1225,8 +1226,8 @@ fn beyond_gyro(
         let w = (gyr[k] - bias[k]).component_mul(&one_s);
         (used && w.iter().all(|v| v.is_finite())).then_some(w)
     };
-    // (one sample clock's steps: clino_core's STEPS_ALIKE)
-    let alike = |a: f64, b: f64| (a - b).abs() < 0.1 * b;
+    // (one sample clock's steps, as the filter's strapdown step asks)
+    let alike = |a: f64, b: f64| (a - b).abs() < STEPS_ALIKE * b;
     let mut w_prev: Option<Vec3> = None;
     for k in 0..n {
         let Some(w) = rate(k) else {
@@ -1558,18 +1559,12 @@ mod tests {
         // (offline 1.19× offline VQF's error on the grid). With the held
         // pose's means (the attitude's shifted by the low-pass's delay)
         // 0.45 mg, 0.065 %.
-        use crate::sim::hand::{HandMotion, HandParams};
-        use crate::sim::motion::{Sum, vibration};
         let rate = 125.0;
         let model = crate::sim::slewing::sensor().with_bandwidth(50.0);
         let (mut b2, mut s2) = (0.0, 0.0);
         let seeds = 8;
         for seed in 1..=seeds {
-            let f_rock = 1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract();
-            let m = Sum {
-                a: HandMotion::new(HandParams::slow(), seed),
-                b: vibration(f_rock, 2f64.to_radians(), Vec3::zeros()),
-            };
+            let (m, _) = arm_on_base(seed, rock_hz(seed), Vec3::zeros());
             let samples = model.simulate(&m, rate, 120.0, seed);
             let mut f = clino_core::filter::Dynamic::default();
             f.set_gyro_bias(model.gyro.bias);
@@ -2170,6 +2165,31 @@ mod tests {
         arm_on_base_offline_by_scale(scale, seed, hz, Vec3::new(1.5, 1.0, 1.2))
     }
 
+    /// The slow arm (moves of 12 s under 0.36 rad/s, rests of 2 s) on a
+    /// base moving at `hz` with 2°/s of angular and `linear` m/s² of linear
+    /// amplitude (`generalise`'s slow arm on a vibrating, swaying or rocking
+    /// base), and the time its first rest ends, s.
+    fn arm_on_base(
+        seed: u64,
+        hz: f64,
+        linear: Vec3,
+    ) -> (
+        crate::sim::motion::Sum<crate::sim::hand::HandMotion, impl crate::sim::Motion>,
+        f64,
+    ) {
+        use crate::sim::hand::{HandMotion, HandParams};
+        let arm = HandMotion::new(HandParams::slow(), seed);
+        let from = arm.params.initial_rest_s;
+        let base = crate::sim::motion::vibration(hz, 2f64.to_radians(), linear);
+        (crate::sim::motion::Sum { a: arm, b: base }, from)
+    }
+
+    /// The frequency a base rocks at on `seed`, 1.5–5 Hz (`generalise`'s
+    /// slow+rock: the golden ratio's multiples spread the seeds).
+    fn rock_hz(seed: u64) -> f64 {
+        1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract()
+    }
+
     /// The slow arm on a base moving at `hz` with 2°/s of angular and
     /// `linear` m/s² of linear amplitude: [`smooth`] with and without the
     /// gyro scale (its RMS inclination errors, °, and whether they are the
@@ -2180,14 +2200,7 @@ mod tests {
         hz: f64,
         linear: Vec3,
     ) -> (f64, f64, bool) {
-        use crate::sim::hand::{HandMotion, HandParams};
-        use crate::sim::motion::{Sum, vibration};
-        let arm = HandMotion::new(HandParams::slow(), seed);
-        let from = arm.params.initial_rest_s;
-        let boom = Sum {
-            a: arm,
-            b: vibration(hz, 2f64.to_radians(), linear),
-        };
+        let (boom, from) = arm_on_base(seed, hz, linear);
         let mut model = crate::sim::slewing::sensor().with_bandwidth(50.0);
         model.gyro.scale = scale;
         offline_on_and_off(&boom, &model, 125.0, seed, from, |scale| SmoothOptions {
@@ -2240,7 +2253,7 @@ mod tests {
         // without: seed 2 0.042° → 0.120°, seed 4 0.119° → 0.238° (with the
         // bar at 85 % seed 2's fit was not taken: 0.120° either way)
         for seed in [2, 4] {
-            let hz = 1.5 + 3.5 * (seed as f64 * 0.618_033_988_75).fract();
+            let hz = rock_hz(seed);
             let (on, off, same) = arm_on_base_offline_by_scale(
                 Vec3::new(0.02, -0.015, 0.01),
                 seed,

@@ -1154,7 +1154,7 @@ fn rotation_step(w_prev: &Vec3, w: &Vec3, dt: f64) -> Quaternion<f64> {
 /// weights would carry that jitter into the turn (the slow arm at 125 Hz
 /// with stamps ±30 % of a period, as given: 0.104° with the trapezoid,
 /// 0.108° with the quadratic at any step ratio).
-const STEPS_ALIKE: f64 = 0.1;
+pub const STEPS_ALIKE: f64 = 0.1;
 
 /// [`rotation_step`] with the rate quadratic through the sample before
 /// the last (`w_pp`: its rate and the step from it to `w_prev`, s), the
@@ -5074,6 +5074,47 @@ mod tests {
                 .z;
             assert!((trap - angle(tp, t1) + 3.0 * h * h * h / 12.0).abs() < 1e-13);
         }
+        // a turn ω = cos Ωt about z at Ωh = 0.2 (a hand's 0.8 Hz at 25 Hz),
+        // summed step by step over two periods against sin(Ωt)/Ω: the
+        // trapezoid keeps (Ωh/2)/tan(Ωh/2) of the amplitude (1 − 3.3e-3);
+        // the quadratic's step responds to e^{iΩt} as r = (5 + 8e^{−iθ} −
+        // e^{−2iθ})/12 against the exact (1 − e^{−iθ})/(iθ), θ = Ωh: off by
+        // its phase φ (3.3e-4 rad), which the sum from rest turns into at
+        // most 2φ of the amplitude
+        let (om, h) = (0.2 / 0.04, 0.04);
+        let (mut lin, mut quad) = (0.0f64, 0.0f64);
+        let (mut worst_lin, mut worst_quad) = (0.0f64, 0.0f64);
+        let wz = |k: i64| z((om * k as f64 * h).cos());
+        for k in 1..=(2.0 * core::f64::consts::TAU / (om * h)) as i64 {
+            let angle_of = |q: Quaternion<f64>| UnitQuaternion::from_quaternion(q).scaled_axis().z;
+            lin += angle_of(rotation_step(&wz(k - 1), &wz(k), h));
+            quad += angle_of(rotation_step_quadratic(
+                &(wz(k - 2), h),
+                &wz(k - 1),
+                &wz(k),
+                h,
+            ));
+            let exact = (om * k as f64 * h).sin() / om;
+            worst_lin = worst_lin.max((lin - exact).abs() * om);
+            worst_quad = worst_quad.max((quad - exact).abs() * om);
+        }
+        let trapezoid = 1.0 - 0.1 / 0.1f64.tan();
+        assert!(
+            (worst_lin - trapezoid).abs() < 0.05 * trapezoid,
+            "{worst_lin} against {trapezoid}"
+        );
+        let phi = {
+            use nalgebra::Complex;
+            let e = |n: f64| Complex::new(0.0, -n * 0.2).exp();
+            let r = (e(0.0) * 5.0 + e(1.0) * 8.0 - e(2.0)) / 12.0;
+            let exact = (e(0.0) - e(1.0)) / Complex::new(0.0, 0.2);
+            (r / exact).arg().abs()
+        };
+        assert!((phi - 3.3e-4).abs() < 0.1e-4, "{phi}");
+        assert!(
+            (worst_quad - 2.0 * phi).abs() < 0.05 * phi,
+            "{worst_quad} against 2·{phi}"
+        );
         // steps unlike (a gap, the first step): the trapezoid
         let (wp, w1) = (z(0.5), z(0.9));
         for pp in [(z(0.1), 0.08), (z(0.1), f64::NAN), (z(f64::NAN), 0.04)] {
