@@ -1147,8 +1147,11 @@ fn rotation_step(w_prev: &Vec3, w: &Vec3, dt: f64) -> Quaternion<f64> {
     exp_rotation(&((w_prev + w) * 0.5 + w_prev.cross(w) * (dt / 12.0)), dt)
 }
 
-/// Two steps this close (a share of the first) are one sample clock's
-/// ([`rotation_step_quadratic`]): a sensor's own clock holds its period to
+/// Two steps this close (a share of the first) are one sample clock's: the
+/// [`Dynamic`] filter's strapdown step then takes the rate quadratic
+/// through the last three samples (and the offline smoother's gyro model
+/// the cubic through four), else linear between two. A sensor's own clock
+/// holds its period to
 /// parts per million, while time stamps a host made jitter by tens of per
 /// cent (a USB packet, a scheduler), and through them the quadratic's
 /// weights would carry that jitter into the turn (the slow arm at 125 Hz
