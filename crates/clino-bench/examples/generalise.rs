@@ -11,7 +11,11 @@
 //! For each condition it prints VQF's mean inclination RMSE (BROAD's metric,
 //! [`clino::eval::inclination_error`]) over the seeds, and for every filter
 //! its mean RMSE, the ratio of its mean to VQF's and its worst per-recording
-//! ratio. `--dynamic SPEC` replaces the dynamic filter's parameters (the
+//! ratio. Besides the filters, `dyn+bias` is `dynamic` with the online
+//! accelerometer-bias estimator (the lever arm given where the condition
+//! has one), and `dyn+auto` with the lever arm estimated as well
+//! (`--lever-arm auto`): on a mount with no rotation axis the arm must not
+//! be applied and the tilt must stay `dynamic`'s. `--dynamic SPEC` replaces the dynamic filter's parameters (the
 //! `name:key=value` form of `clino fuse -f`), so a default can be tried on the
 //! whole grid before it is changed.
 //!
@@ -1230,7 +1234,9 @@ fn before_rest(rec: &Rec, vqf: &[Attitude], dynamic: &FilterSpec) -> Option<(f64
 }
 
 /// Scores of one recording: VQF, then each of `filters`, then offline
-/// dynamic, then dynamic with the mount estimator; then at rest
+/// dynamic, then dynamic with the mount estimator (the lever arm given, or
+/// none), then with the lever arm estimated (`--lever-arm auto`: on a mount
+/// with no rotation axis it must leave the tilt as it was); then at rest
 /// ([`Rec::rest`]) VQF and the first of `filters`.
 fn score(rec: &Rec, filters: &[FilterSpec], dynamic: &FilterSpec) -> Vec<f64> {
     let vqf = run_vqf(rec);
@@ -1245,6 +1251,7 @@ fn score(rec: &Rec, filters: &[FilterSpec], dynamic: &FilterSpec) -> Vec<f64> {
     }
     out.push(rmse(rec, &run_offline(rec, dynamic)));
     out.push(rmse(rec, &run_mount(rec, dynamic, false).0));
+    out.push(rmse(rec, &run_mount(rec, dynamic, true).0));
     out.push(rmse_over(rec, &vqf, &rec.rest));
     out.push(first_rest);
     out
@@ -1397,7 +1404,7 @@ fn main() -> clino::Result<()> {
         filters.push(FilterSpec::default_for(k));
     }
     let names = [
-        "dynamic", "mahony", "madgwick", "complem.", "offline", "dyn+bias",
+        "dynamic", "mahony", "madgwick", "complem.", "offline", "dyn+bias", "dyn+auto",
     ];
     let mut conditions = Vec::new();
     for &rate in &[25.0, 100.0, 1000.0] {

@@ -438,7 +438,11 @@ impl Pipeline {
             d.track_arm_input(arm);
             // the turns make the accelerometer's bias observable: no pull to
             // it there while it is estimated (Dynamic::set_turn_pull)
-            d.set_turn_pull(!on);
+            // while the estimator's bias is applied, none from the turns and
+            // none learnt by the filter itself
+            let applied = on && self.mount.as_ref().is_some_and(|m| m.lever_model_holds());
+            d.set_turn_pull(!applied);
+            d.set_accel_bias_owned(applied);
             // the mount estimator observes the gyro-only attitude through it
             d.track_tilt_correction(observed);
         }
@@ -605,7 +609,7 @@ impl Pipeline {
         if let (Some(l), Some(dt)) = (&mut self.lever, dt) {
             rates = l.rates(&s.gyr_rad_s, &self.filter.gyro_bias(), dt);
             if let Some(m) = &self.mount {
-                l.r_m = m.lever_arm();
+                l.r_m = m.applied_lever_arm();
             }
             if let Some((w, w_dot)) = rates {
                 acc -= lever_arm_acceleration(&w, &w_dot, &l.r_m);
@@ -668,9 +672,15 @@ impl Pipeline {
                 self.mount_blocks = m.blocks();
                 let feedback = m.options().estimate_bias;
                 // the whole estimate where the mount's accelerations are
-                // modelled (a lever arm), the share the data have pinned down
-                // where they are not (MountEstimator::applied_accel_bias)
-                let target = if self.lever.is_some() {
+                // modelled (a lever arm, given or estimated and explaining
+                // them); none where an estimated arm does not explain them
+                // (MountEstimator::lever_model_holds: a hand, a robot arm,
+                // whose own accelerations and gyro errors turn with it as
+                // the bias does); the share the data have pinned down where
+                // no arm is modelled (MountEstimator::applied_accel_bias)
+                let target = if !m.lever_model_holds() {
+                    Vec3::zeros()
+                } else if self.lever.is_some() {
                     m.accel_bias()
                 } else {
                     m.applied_accel_bias()
@@ -678,11 +688,14 @@ impl Pipeline {
                 let delta = target - self.applied_bias;
                 if let (true, Some(d)) = (feedback, self.filter.as_dynamic_mut()) {
                     d.shift_accel_input(-delta);
+                    let own = m.lever_model_holds();
+                    d.set_turn_pull(!own);
+                    d.set_accel_bias_owned(own);
                 }
                 self.applied_bias = target;
                 if let (true, Some(l)) = (m.options().estimate_lever, &mut self.lever) {
-                    let dr = m.lever_arm() - l.r_m;
-                    l.r_m = m.lever_arm();
+                    let dr = m.applied_lever_arm() - l.r_m;
+                    l.r_m = m.applied_lever_arm();
                     if let (true, Some(d)) = (self.feeds_back_arm, self.filter.as_dynamic_mut()) {
                         d.shift_arm_input(-dr);
                     }

@@ -508,9 +508,12 @@ impl FilterConfig {
             }
             if let Some(m) = p.mount_estimator() {
                 if self.lever_auto || self.lever_arm_m.is_some() {
-                    lever_arm_m = Some(m.lever_arm());
+                    lever_arm_m = Some(m.applied_lever_arm());
                 }
-                let b = m.accel_bias();
+                // what the real-time pass ended by removing: the whole
+                // estimate where the lever arm explains the accelerations,
+                // the share the data pinned down where it does not
+                let b = p.applied_accel_bias();
                 held.acc.iter_mut().for_each(|a| *a -= b);
             }
         }
@@ -811,6 +814,18 @@ pub struct MountReport {
     pub lever_arm_m: [f64; 3],
     /// Its 1σ per axis, m (zero when given).
     pub lever_arm_sigma_m: [f64; 3],
+    /// The share of the block-mean specific force the estimated arm
+    /// explains ([`clino_core::compensate::MountEstimator::lever_explains`];
+    /// `None` when the arm is given).
+    pub lever_explains: Option<f64>,
+    /// The learnt 1σ of a block's unexplained specific force, m/s²
+    /// ([`clino_core::compensate::MountEstimator::noise_sigma`]): the mount's
+    /// own acceleration over half a second, and what the model leaves.
+    pub noise_sigma_m_s2: f64,
+    /// The arm the samples were compensated with at the end, m: the
+    /// estimate where it explains the accelerations, else its prior
+    /// ([`clino_core::compensate::MountEstimator::applied_lever_arm`]).
+    pub lever_arm_applied_m: [f64; 3],
 }
 
 impl MountReport {
@@ -822,6 +837,9 @@ impl MountReport {
             accel_bias_sigma_m_s2: a(m.accel_bias_sigma()),
             lever_arm_m: a(m.lever_arm()),
             lever_arm_sigma_m: a(m.lever_arm_sigma()),
+            lever_explains: m.lever_explains(),
+            noise_sigma_m_s2: m.noise_sigma(),
+            lever_arm_applied_m: a(m.applied_lever_arm()),
         }
     }
 }

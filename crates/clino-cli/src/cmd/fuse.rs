@@ -90,6 +90,27 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
             "\nclino fuse: lever arm ({:.3}, {:.3}, {:.3}) m ± ({:.3}, {:.3}, {:.3}) m (1σ; a component along the rotation axis causes no acceleration and keeps its prior)",
             r[0], r[1], r[2], sr[0], sr[1], sr[2]
         ));
+        if let Some(f) = m.lever_explains {
+            let a = m.lever_arm_applied_m;
+            if a == r {
+                s.push_str(&format!(
+                    "\nclino fuse: applied: its tangential and centripetal terms predict {:.1} % of the block-mean acceleration and leave {:.3} m/s² a block (1σ)",
+                    100.0 * f,
+                    m.noise_sigma_m_s2
+                ));
+            } else {
+                s.push_str(&format!(
+                    "\nclino fuse: NOT applied (the samples were compensated with ({:.3}, {:.3}, {:.3}) m): its terms predict {:.1} % of the block-mean acceleration and leave {:.3} m/s² a block (1σ), where a rigid body turning about a fixed axis has them predict at least {:.0} % and leave at most {} m/s²; this mount moves in ways a lever arm does not model",
+                    a[0],
+                    a[1],
+                    a[2],
+                    100.0 * f,
+                    m.noise_sigma_m_s2,
+                    100.0 * clino::core::compensate::LEVER_EXPLAINS,
+                    clino::core::compensate::LEVER_FIXED_AXIS_M_S2
+                ));
+            }
+        }
     }
     s
 }

@@ -510,6 +510,8 @@ pub struct Dynamic {
     gap_steps: u32,
     /// The rest pull at unaccelerated turns ([`Dynamic::set_turn_pull`]).
     turn_pull: bool,
+    /// The accelerometer bias is the pipeline's ([`Dynamic::set_accel_bias_owned`]).
+    bias_owned: bool,
     /// Gyro scale errors learnt through the loop in this motion
     /// ([`Dynamic::motion_gyro_scale`]): the rate used is
     /// (ω_meas − b)·(1 − s − s_m).
@@ -2094,6 +2096,7 @@ impl Dynamic {
             gap_steps: 0,
             motion_scale: Vec3::zeros(),
             turn_pull: true,
+            bias_owned: false,
             vel: [0.0; 2],
             acc_f1: Vec3::zeros(),
             sway: Sway::new(),
@@ -2402,6 +2405,16 @@ impl Dynamic {
     /// through [`AttitudeFilter::reset`].
     pub fn set_turn_pull(&mut self, on: bool) {
         self.turn_pull = on;
+    }
+
+    /// Leave the accelerometer bias to the caller (`true`: the rest pairs
+    /// learn none, [`Dynamic::accel_bias`] goes to zero at the next pair)
+    /// or learn it from rest to rest (`false`, the default). The pipeline
+    /// owns it while its mount estimator's bias is applied
+    /// ([`crate::compensate::MountEstimator::lever_model_holds`]). Kept
+    /// through [`AttitudeFilter::reset`].
+    pub fn set_accel_bias_owned(&mut self, owned: bool) {
+        self.bias_owned = owned;
     }
 
     /// The gyro scale errors the loop has learnt in the current motion
@@ -2721,8 +2734,8 @@ impl AttitudeFilter for Dynamic {
                 self.rested_once = true;
             }
         }
-        // the accelerometer bias is the pipeline's when it estimates it
-        let bias_sigma = if self.sens.is_none() {
+        // the accelerometer bias is the pipeline's when it applies its own
+        let bias_sigma = if !self.bias_owned {
             p.accel_bias_sigma
         } else {
             0.0
@@ -3283,12 +3296,13 @@ impl AttitudeFilter for Dynamic {
 
     fn reset(&mut self) {
         let (track, corr, arm) = (self.sens.is_some(), self.corr.is_some(), self.arm.is_some());
-        let turn_pull = self.turn_pull;
+        let (turn_pull, bias_owned) = (self.turn_pull, self.bias_owned);
         *self = Self::new(self.params);
         self.track_accel_input(track);
         self.track_tilt_correction(corr);
         self.track_arm_input(arm);
         self.turn_pull = turn_pull;
+        self.bias_owned = bias_owned;
     }
 
     fn gyro_bias(&self) -> Vec3 {
