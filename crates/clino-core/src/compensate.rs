@@ -454,15 +454,17 @@ pub const NOISE_REWEIGH_RATIO: f64 = 2.0;
 /// the 80 simulated recordings of hands, shaken sensors, robot arms and a
 /// drum, −150 % to +14 % at their ends. In their first second of motion a
 /// hand's few blocks still correlate with the arm fitted to them (up to
-/// 0.81 there, under 0.5 from two seconds on): the arm is applied for that
-/// second, and the tilt is within 7 % of the filter's without the
-/// estimator. Applied throughout, an arm of a few centimetres times a
+/// 0.81 there, under 0.5 from two seconds on), and its noise is not yet
+/// learnt ([`LEVER_FIXED_AXIS_M_S2`]): the arm is applied for that second,
+/// and the tilt is within 6 % of the filter's without the estimator
+/// (`generalise`, `dyn+auto`). Applied throughout, an arm of a few centimetres times a
 /// hand's dω/dt (tens of rad/s²) is metres per second squared of
 /// acceleration that is not there: the shaken sensor's tilt 0.15° → 0.38°,
 /// and 7.7° before the blocks were weighed again ([`NOISE_REWEIGH_RATIO`]).
 /// Waiting longer costs the slewing machine more than it saves the hand:
-/// three quarters, or a half held for 2 s, leave its first slew
-/// uncompensated for 1–3 s (0.09° → 0.12–0.19°). An arm about a moving
+/// at three quarters its swaying boom's first slew waits longer (worst
+/// 0.27° against 0.175°), a half held for 2 s leaves every first slew
+/// uncompensated for 2 s more (0.08–0.11° → 0.13–0.18°). An arm about a moving
 /// pivot can predict much (BROAD's arm swings, 73–92 %): what it leaves
 /// tells it apart ([`LEVER_FIXED_AXIS_M_S2`]).
 pub const LEVER_EXPLAINS: f64 = 0.5;
