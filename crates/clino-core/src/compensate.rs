@@ -662,7 +662,9 @@ impl MountEstimator {
     /// whole estimate [`MountEstimator::accel_bias`], the posterior mean,
     /// when it does (a rigid body turning about an axis, whose accelerations
     /// are the model's: the slewing machine 0.084° (worst 0.090°) against
-    /// 0.090° (0.093°) with the share; `generalise`, 8 seeds).
+    /// 0.090° (0.093°) with the share; `generalise`, 8 seeds). With the arm
+    /// estimated, the whole estimate while
+    /// [`MountEstimator::lever_model_holds`], and none otherwise.
     pub fn applied_accel_bias(&self) -> Vec3 {
         if !self.opts.estimate_bias {
             return Vec3::zeros();

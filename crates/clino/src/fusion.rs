@@ -511,8 +511,9 @@ impl FilterConfig {
                     lever_arm_m = Some(m.applied_lever_arm());
                 }
                 // what the real-time pass ended by removing: the whole
-                // estimate where the lever arm explains the accelerations,
-                // the share the data pinned down where it does not
+                // estimate where the lever arm (given, or estimated and
+                // explaining the accelerations) models them, none where an
+                // estimated arm does not (MountEstimator::lever_model_holds)
                 let b = p.applied_accel_bias();
                 held.acc.iter_mut().for_each(|a| *a -= b);
             }

@@ -100,7 +100,7 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
                 ));
             } else {
                 s.push_str(&format!(
-                    "\nclino fuse: NOT applied (the samples were compensated with ({:.3}, {:.3}, {:.3}) m): its terms predict {:.1} % of the block-mean acceleration and leave {:.3} m/s² a block (1σ), where a rigid body turning about a fixed axis has them predict at least {:.0} % and leave at most {} m/s²; this mount moves in ways a lever arm does not model",
+                    "\nclino fuse: NOT applied, nor the bias estimate (the samples were compensated with ({:.3}, {:.3}, {:.3}) m): its terms predict {:.1} % of the block-mean acceleration and leave {:.3} m/s² a block (1σ), where a rigid body turning about a fixed axis has them predict at least {:.0} % and leave at most {} m/s²; this mount moves in ways a lever arm does not model",
                     a[0],
                     a[1],
                     a[2],

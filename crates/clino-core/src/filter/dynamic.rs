@@ -2397,8 +2397,9 @@ impl Dynamic {
     /// Allow the rest pull at turns without acceleration (`true`, the
     /// default: the specific force turning only as the gyro says, up to
     /// 0.32 rad/s) or only at held poses (under 2°/s). The pipeline turns it
-    /// off while its mount estimator estimates the accelerometer's bias from
-    /// the turns (rotation modulation): a pull to the accelerometer in the
+    /// off while it applies its mount estimator's accelerometer bias, learnt
+    /// from the turns (rotation modulation;
+    /// [`crate::compensate::MountEstimator::lever_model_holds`]): a pull to the accelerometer in the
     /// turns that make its bias observable feeds the bias into the tilt there
     /// (`clino demo`'s slewing excavator, `--lever-arm` with the bias
     /// estimated: 0.050° with it, 0.042° without, BENCHMARKS.md). Kept
