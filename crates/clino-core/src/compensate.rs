@@ -602,21 +602,26 @@ impl Block {
     }
 }
 
+impl MountOptions {
+    /// The prior of [`MountEstimator`]'s state (m, b, r): its mean and the
+    /// variance of each component (zero for a state held at its value).
+    fn prior(&self) -> (V9, V9) {
+        let mean = V9::from_fn(|i, _| if i >= 6 { self.lever_arm_m[i - 6] } else { 0.0 });
+        let var = V9::from_fn(|i, _| match i / 3 {
+            0 => self.offset_sigma_m_s2 * self.offset_sigma_m_s2,
+            1 if self.estimate_bias => self.bias_sigma_m_s2 * self.bias_sigma_m_s2,
+            2 if self.estimate_lever => self.lever_sigma_m * self.lever_sigma_m,
+            _ => 0.0,
+        });
+        (mean, var)
+    }
+}
+
 impl MountEstimator {
     /// An estimator with the priors of `opts`.
     pub fn new(opts: MountOptions) -> Self {
-        let mut p = M9::zeros();
-        let mut x = V9::zeros();
-        for i in 0..3 {
-            p[(i, i)] = opts.offset_sigma_m_s2 * opts.offset_sigma_m_s2;
-            if opts.estimate_bias {
-                p[(3 + i, 3 + i)] = opts.bias_sigma_m_s2 * opts.bias_sigma_m_s2;
-            }
-            if opts.estimate_lever {
-                p[(6 + i, 6 + i)] = opts.lever_sigma_m * opts.lever_sigma_m;
-            }
-            x[6 + i] = opts.lever_arm_m[i];
-        }
+        let (x, var) = opts.prior();
+        let p = M9::from_diagonal(&var);
         let floor = opts.noise_floor_m_s2.max(1e-6);
         Self {
             opts,
@@ -925,24 +930,16 @@ impl MountEstimator {
         if !(c.is_finite() && c > 0.0 && c < 1.0) {
             return;
         }
-        let o = &self.opts;
-        let prior = |i: usize| match i / 3 {
-            0 => o.offset_sigma_m_s2 * o.offset_sigma_m_s2,
-            1 if o.estimate_bias => o.bias_sigma_m_s2 * o.bias_sigma_m_s2,
-            2 if o.estimate_lever => o.lever_sigma_m * o.lever_sigma_m,
-            _ => 0.0,
-        };
-        let x0 = V9::from_fn(|i, _| if i >= 6 { o.lever_arm_m[i - 6] } else { 0.0 });
+        let (x0, var) = self.opts.prior();
         // the states held at their values take a unit variance, the same
         // before and after, so the inverses stay those of the others
         let (mut p, mut y0) = (self.p, M9::zeros());
         for i in 0..9 {
-            match prior(i) {
-                v if v > 0.0 => y0[(i, i)] = 1.0 / v,
-                _ => {
-                    p[(i, i)] = 1.0;
-                    y0[(i, i)] = 1.0;
-                }
+            if var[i] > 0.0 {
+                y0[(i, i)] = 1.0 / var[i];
+            } else {
+                p[(i, i)] = 1.0;
+                y0[(i, i)] = 1.0;
             }
         }
         let Some(y) = p.cholesky().map(|ch| ch.inverse()) else {
@@ -958,10 +955,10 @@ impl MountEstimator {
             return;
         }
         for i in 0..9 {
-            if prior(i) > 0.0 {
+            if var[i] > 0.0 {
                 self.x[i] = x2[i];
                 for j in 0..9 {
-                    self.p[(i, j)] = if prior(j) > 0.0 { p2[(i, j)] } else { 0.0 };
+                    self.p[(i, j)] = if var[j] > 0.0 { p2[(i, j)] } else { 0.0 };
                 }
             }
         }

@@ -436,15 +436,27 @@ impl Pipeline {
         if let Some(d) = self.filter.as_dynamic_mut() {
             d.track_accel_input(on);
             d.track_arm_input(arm);
-            // the turns make the accelerometer's bias observable: no pull to
-            // it there while it is estimated (Dynamic::set_turn_pull)
-            // while the estimator's bias is applied, none from the turns and
-            // none learnt by the filter itself
-            let applied = on && self.mount.as_ref().is_some_and(|m| m.lever_model_holds());
-            d.set_turn_pull(!applied);
-            d.set_accel_bias_owned(applied);
             // the mount estimator observes the gyro-only attitude through it
             d.track_tilt_correction(observed);
+        }
+        self.hand_over_bias();
+    }
+
+    /// While the mount estimator's bias is applied (estimated, and its model
+    /// holding: [`MountEstimator::lever_model_holds`]) the filter pulls no
+    /// tilt at turns, which make that bias observable and would feed it
+    /// into the tilt ([`crate::filter::Dynamic::set_turn_pull`]), and learns
+    /// no bias of its own ([`crate::filter::Dynamic::set_accel_bias_owned`]);
+    /// otherwise it runs as without the estimator.
+    fn hand_over_bias(&mut self) {
+        let applied = self.feeds_back()
+            && self
+                .mount
+                .as_ref()
+                .is_some_and(MountEstimator::lever_model_holds);
+        if let Some(d) = self.filter.as_dynamic_mut() {
+            d.set_turn_pull(!applied);
+            d.set_accel_bias_owned(applied);
         }
     }
 
@@ -645,6 +657,7 @@ impl Pipeline {
         } else if let Some(dt) = dt {
             self.skipped = dt;
         }
+        let mut new_estimate = false;
         if let Some(m) = &mut self.mount {
             match (status, self.filter.as_dynamic_mut(), dt) {
                 (Status::Initialised, _, _) => m.restart(),
@@ -666,6 +679,7 @@ impl Pipeline {
                 _ => {}
             }
             if m.blocks() != self.mount_blocks {
+                new_estimate = true;
                 // a new estimate: remove it from the samples to come, and move
                 // the filter's state to where it would be had it been removed
                 // from the samples before
@@ -688,9 +702,6 @@ impl Pipeline {
                 let delta = target - self.applied_bias;
                 if let (true, Some(d)) = (feedback, self.filter.as_dynamic_mut()) {
                     d.shift_accel_input(-delta);
-                    let own = m.lever_model_holds();
-                    d.set_turn_pull(!own);
-                    d.set_accel_bias_owned(own);
                 }
                 self.applied_bias = target;
                 if let (true, Some(l)) = (m.options().estimate_lever, &mut self.lever) {
@@ -701,6 +712,9 @@ impl Pipeline {
                     }
                 }
             }
+        }
+        if new_estimate {
+            self.hand_over_bias();
         }
         status
     }

@@ -823,6 +823,10 @@ pub struct MountReport {
     /// ([`clino_core::compensate::MountEstimator::noise_sigma`]): the mount's
     /// own acceleration over half a second, and what the model leaves.
     pub noise_sigma_m_s2: f64,
+    /// Whether the estimated arm (and the whole bias estimate with it) was
+    /// applied at the end: given, or its model holding
+    /// ([`clino_core::compensate::MountEstimator::lever_model_holds`]).
+    pub lever_applied: bool,
     /// The arm the samples were compensated with at the end, m: the
     /// estimate where it explains the accelerations, else its prior
     /// ([`clino_core::compensate::MountEstimator::applied_lever_arm`]).
@@ -840,6 +844,7 @@ impl MountReport {
             lever_arm_sigma_m: a(m.lever_arm_sigma()),
             lever_explains: m.lever_explains(),
             noise_sigma_m_s2: m.noise_sigma(),
+            lever_applied: m.lever_model_holds(),
             lever_arm_applied_m: a(m.applied_lever_arm()),
         }
     }

@@ -92,7 +92,7 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
         ));
         if let Some(f) = m.lever_explains {
             let a = m.lever_arm_applied_m;
-            if a == r {
+            if m.lever_applied {
                 s.push_str(&format!(
                     "\nclino fuse: applied: its tangential and centripetal terms predict {:.1} % of the block-mean acceleration and leave {:.3} m/s² a block (1σ)",
                     100.0 * f,
