@@ -477,6 +477,15 @@ mod mount_tests {
         (model, b)
     }
 
+    /// The pipeline of `--lever-arm auto`: the arm estimated from the
+    /// recording (the accelerometer bias with it).
+    fn lever_auto() -> CorePipeline {
+        CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(MountOptions {
+            estimate_lever: true,
+            ..Default::default()
+        }))
+    }
+
     /// The pipeline of `--lever-arm` with the arm of `m` given (the
     /// accelerometer bias estimated online).
     fn lever_given(m: &SlewingPlatform) -> CorePipeline {
@@ -663,16 +672,7 @@ mod mount_tests {
         let m = SlewingPlatform::default();
         let (model, _) = uncalibrated_bias();
         let s = model.simulate(&m, 200.0, 120.0, 3);
-        let opts = MountOptions {
-            estimate_lever: true,
-            ..Default::default()
-        };
-        let (tilt, p) = run(
-            &m,
-            &s,
-            m.initial_rest_s,
-            CorePipeline::new(FilterSpec::default()).with_mount_estimator(Some(opts)),
-        );
+        let (tilt, p) = run(&m, &s, m.initial_rest_s, lever_auto());
         let e = p.mount_estimator().unwrap();
         let dr = e.lever_arm() - m.lever_arm_m;
         // the component along the slew axis makes no acceleration: only x, y
@@ -704,16 +704,7 @@ mod mount_tests {
         let s = sensor().simulate(&hand, 100.0, 120.0, 1);
         let spec = FilterSpec::default();
         let (plain, _) = run(&hand, &s, 0.0, CorePipeline::new(spec));
-        let opts = MountOptions {
-            estimate_lever: true,
-            ..Default::default()
-        };
-        let (auto, p) = run(
-            &hand,
-            &s,
-            0.0,
-            CorePipeline::new(spec).with_mount_estimator(Some(opts)),
-        );
+        let (auto, p) = run(&hand, &s, 0.0, lever_auto());
         let e = p.mount_estimator().unwrap();
         let (r, sr) = (e.lever_arm(), e.lever_arm_sigma());
         println!(
