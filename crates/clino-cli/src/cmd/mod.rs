@@ -273,8 +273,8 @@ pub struct StageArgs {
     /// Lever arm of the sensor from a point on the rotation axis, metres, body frame: "X,Y,Z".
     /// Tangential (dω/dt × r) and centripetal (ω × (ω × r)) acceleration are removed before fusion.
     /// `clino fuse --lever-arm auto` estimates it online from the recording (dynamic filter) and
-    /// applies it, with the bias, once its terms predict at least half of the recording's
-    /// accelerations (a rigid body turning about a fixed axis); on a mount that has no such axis
+    /// applies it, with the bias, once its terms predict at least three quarters of the
+    /// recording's accelerations (a rigid body turning about a fixed axis); on a mount that has no such axis
     /// (a hand, a vehicle) it is reported, not applied. With a lever arm the dynamic filter also
     /// estimates the horizontal accelerometer bias.
     #[arg(long, value_name = "X,Y,Z|auto", allow_hyphen_values = true)]

@@ -723,6 +723,75 @@ mod mount_tests {
     }
 
     #[test]
+    fn lever_arm_auto_never_applies_an_arm_fitted_to_a_hands_first_turns() {
+        // A hand has no point that stays still, so no lever arm. Its first
+        // block of motion, weighed at the rest's noise, sets an arm to a
+        // centimetre (its variance shrinks from the 2-m prior in two
+        // blocks). Before the share weighed each prediction by how much its
+        // arm knew, a hand turning three times as fast (up to ±2000 °/s,
+        // tens to hundreds of rad/s² of dω/dt) had its second block of
+        // motion predicted to 94 % by the arm fitted to the rest's noise
+        // (1.8 m of 1σ), the share jumped to 0.64 while the noise was still
+        // the rest's, and the chance arm was applied for 0.2 s: the tilt
+        // 10° (`generalise`: the mean 0.612° → 0.648°, worst 0.97 → 1.35×
+        // VQF; 4 seeds of 8 at 100 Hz). Weighed, with the share asked to
+        // reach a half, a hand at 25 or 100 Hz still had an arm fitted to two
+        // blocks predict 70 % of the next (seed 5: 0.25 s applied); at three
+        // quarters none does.
+        for (speed, rate) in [(1.0, 25.0), (1.0, 100.0), (3.0, 100.0)] {
+            let mut params = crate::sim::hand::HandParams::by_hand();
+            params.band_hz = (speed * params.band_hz.0, speed * params.band_hz.1);
+            let mut model = sensor().with_bandwidth((0.4f64 * rate).min(98.0));
+            model.gyro.range = 2000f64.to_radians();
+            for seed in 1..=8 {
+                let hand = crate::sim::hand::HandMotion::new(params, seed);
+                let s = model.simulate(&hand, rate, 30.0, seed);
+                let mut p = lever_auto();
+                let mut applied = 0;
+                for x in &s {
+                    p.update(x);
+                    if p.mount_estimator().unwrap().lever_model_holds() {
+                        applied += 1;
+                    }
+                }
+                let f = p.mount_estimator().unwrap().lever_explains();
+                println!(
+                    "{speed}× at {rate} Hz, seed {seed}: applied on {applied} samples, share {f:?}"
+                );
+                assert_eq!(applied, 0, "{speed}× at {rate} Hz, seed {seed}");
+            }
+        }
+    }
+
+    #[test]
+    fn lever_arm_auto_on_a_swaying_boom_at_25_hz_applies_the_arm_in_its_first_slew() {
+        // `generalise`'s swaying boom at 25 Hz (its chassis heading and sway
+        // frequency by seed, the sensor's anti-alias filter at 10 Hz): the
+        // 10-s rest's sway sets an arm whose component along the slew's
+        // regressor is still at its 2-m prior, and the first slew's blocks
+        // come mispredicted. Counted in full (before the share weighed each
+        // prediction by how much its arm knew) they held the share under a
+        // half for 3.2 s of the first slew on seed 5 (1.77 Hz), with 2.5
+        // m/s² of centripetal acceleration uncompensated: 0.175° over the
+        // run (the issue asks ≤ 0.15° of `--lever-arm auto`); the other
+        // seeds 0.084–0.114°.
+        let (model, _) = uncalibrated_bias();
+        let model = model.with_bandwidth(10.0);
+        for seed in 1..=8u64 {
+            let m = SlewingPlatform {
+                chassis_heading: 0.7 + seed as f64,
+                ..swaying(1.5 + 3.0 * (seed as f64 * 0.618_033_988_75).fract(), 1.0)
+            };
+            let s = model.simulate(&m, 25.0, 120.0, seed);
+            let (tilt, p) = run(&m, &s, m.initial_rest_s, lever_auto());
+            let e = p.mount_estimator().unwrap();
+            println!("seed {seed}, sway {:.2} Hz: {tilt:.3}°", m.vibration_hz);
+            assert!(e.lever_model_holds(), "seed {seed}");
+            assert!(tilt < 0.15, "seed {seed}: {tilt}°");
+        }
+    }
+
+    #[test]
     fn a_mount_that_does_not_turn_keeps_its_tilt() {
         // tilted 20°, translated by ±0.2 m at 0.5 Hz (no rotation), 8 mg of
         // bias: the bias is a tilt here, indistinguishable; the estimate must
