@@ -725,8 +725,9 @@ impl MountEstimator {
     /// A prediction by an arm the blocks had not yet determined is no
     /// evidence either way. Unweighed, such predictions decided the share:
     /// a fast hand's second block of motion, predicted to 94 % by the arm
-    /// fitted to the rest's noise (1.8 m of 1σ; such a block now weighs 10⁻⁷–10⁻⁶), took it
-    /// to 0.64 and a chance arm was applied (the tilt 10° for 0.2 s); a
+    /// fitted to the rest's noise (1.8 m of 1σ; such a block now weighs
+    /// 10⁻⁷–10⁻⁶), took it to 0.64 and a chance arm was applied (the tilt
+    /// 10° for 0.2 s); a
     /// swaying boom's first slew, mispredicted by the arm its sway had set
     /// (the slew's direction of it still at the prior), kept it under a
     /// half 3 s into the slew (0.175° against 0.134°). `None` when the arm
