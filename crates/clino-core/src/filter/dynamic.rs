@@ -162,8 +162,11 @@
 //!   detector sees, so the swaying base is still a rest and its bias is
 //!   learnt (a notch adds no lag to the slow motion the detector must still
 //!   see; `Sway`). The learner's short rests are judged on the same notched
-//!   signals; while a sway is notched no rest ends a pair (its ends hold
-//!   the sway's angle).
+//!   signals, and a swaying base's rests end pairs at their means as a
+//!   still base's do, so a boom's gyro scale is learnt. What the short
+//!   rests and held poses pull on is the sample itself, sway and all: while
+//!   a sway is notched their weight stays the one before any pair
+//!   ([`DynamicParams::rest_pull_rad_s`]).
 //!
 //! * **Lost samples.** A step longer than 1.5 sample periods bridges a gap
 //!   (a radio link's dropouts, rows rejected as non-finite): the rate is
@@ -1289,9 +1292,11 @@ impl ScaleLearner {
     /// vibration would modulate the weight and rectify). Before the first
     /// pair the σ are the prior mixture's, σ₀/√2 (each group present with
     /// probability 1/2, as for the gyro scale, [`ScaleLearner::scale_sigma`]);
-    /// after it the learnt mixture's.
-    fn rest_trust(&self, p: &DynamicParams, f: &Vec3) -> f64 {
-        let (sd_d, sd_b) = if self.pairs == 0 {
+    /// after it the learnt mixture's, unless `learnt` is false: the pull
+    /// then acts on a sample whose direction carries a disturbance the
+    /// learnt σ do not cover (a sway), and keeps the prior's weight.
+    fn rest_trust(&self, p: &DynamicParams, f: &Vec3, learnt: bool) -> f64 {
+        let (sd_d, sd_b) = if self.pairs == 0 || !learnt {
             let h = core::f64::consts::FRAC_1_SQRT_2;
             (
                 Vec3::repeat(p.accel_scale_sigma * h),
@@ -2763,15 +2768,14 @@ impl AttitudeFilter for Dynamic {
             l.q_prev = [gyr_n, acc_n];
             if self.rest {
                 // the first sample of a rest after a motion: one observation;
-                // then every rest sample restarts the segment. No pair while
-                // a sway is notched, at a rest, a short rest or a held pose:
-                // the segment's ends hold the sway's angle at that instant
-                // (up to 0.2° at 1.5 Hz), a short rest's mean what the notch
-                // leaves of it, and the learner's one noise level for all
-                // pairs cannot weigh such pairs down. The calibrated slow arm
-                // on a swaying boom: 0.96× VQF (worst 1.27), offline 0.066°
-                // with every pair; 0.86× (1.34), 0.049° with the rests' only;
-                // 0.78× (1.08), 0.044° with none (BENCHMARKS.md)
+                // then every rest sample restarts the segment. A swaying
+                // base ends pairs as a still one does: each end is a mean
+                // over the stillness (below), which the sway's angle
+                // averages out of (pairs on the slow arm on a swaying boom
+                // miss by 2.8–4 mrad RMS, on a vibrating base by 1.8–2.8;
+                // the learner measures that noise, `pair_noise`). Without
+                // them a boom's gyro scale error was never learnt: ±2 %,
+                // 0.95× VQF's error; with them 0.79× (BENCHMARKS.md).
                 // The pair ends at the stillness's mean attitude
                 // (`still_mean`), as the specific force it is compared with is
                 // the stillness's mean: at one instant a mount still settling
@@ -2792,7 +2796,7 @@ impl AttitudeFilter for Dynamic {
                 l.observe(
                     p,
                     bias_sigma,
-                    !l.was_rest && !self.sway.on,
+                    !l.was_rest,
                     seg,
                     j,
                     seg_time,
@@ -2865,10 +2869,7 @@ impl AttitudeFilter for Dynamic {
                             rest_bias_step(&mut self.bias, sens, &g_mean, w);
                             self.bias_info_s = (self.bias_info_s + n).min(p.rest_bias_tau_s);
                         }
-                        // (no pair while a sway is notched: as at a rest)
-                        if !self.sway.on {
-                            l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
-                        }
+                        l.observe(p, bias_sigma, true, seg0, j0, t0, f_mean, next);
                         settle_motion_scale(&mut self.motion_scale, l.informed, l.quick_sm);
                         l.sm_w -= l.quick_sm.0;
                         l.sm_a -= l.quick_sm.1;
@@ -2914,9 +2915,7 @@ impl AttitudeFilter for Dynamic {
                     && !self.rest
                     && self.rested_once
                     && l.quick_time == 0.0
-                    && !self.sway.on
                 {
-                    // (no pair while a sway is notched: as at a rest)
                     // The pair ends at the held pose's means so far: of the
                     // low-passed specific force, and of the attitude shifted
                     // by that low-pass's delay (2·QUICK_TAU_S; the mean of
@@ -3141,7 +3140,19 @@ impl AttitudeFilter for Dynamic {
                 } else {
                     p.rest_pull_rad_s
                 };
-                let rest_pull = (rate * self.gsl.rest_trust(p, &f)).min(1.0 / dt);
+                // A short rest and a held pose pull on the sample's own
+                // specific force (below), which on a swaying base carries
+                // the sway's linear acceleration (1.5 m/s² at 1.5–5 Hz: the
+                // pull passes 3–10 % of it into the tilt). What the rest
+                // pairs teach of the accelerometer's calibration does not
+                // bound that, so while a sway is notched they keep the
+                // weight they had before any pair (the slow arm on a swaying
+                // boom, calibrated: 0.90× VQF's error, worst 1.21, with the
+                // learnt weight; 0.77×, 1.03 with the prior's). A rest proper
+                // pulls on the stillness's mean, which the sway averages out of.
+                let learnt = self.rest || !self.sway.on;
+                let trust = self.gsl.rest_trust(p, &f, learnt);
+                let rest_pull = (rate * trust).min(1.0 / dt);
                 if rest_pull > pull {
                     pull = rest_pull;
                     // at a rest proper: the mean (a short rest and a held pose
@@ -5641,13 +5652,13 @@ mod tests {
         let l = ScaleLearner::new();
         let (st2, b2) = (1e-4, (0.1 / p.gravity_m_s2) * (0.1f64 / p.gravity_m_s2));
         // level: a scale error does not turn the direction (P_z·e_z = 0)
-        let level = l.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8));
+        let level = l.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8), true);
         assert!((level - st2 / (st2 + b2)).abs() < 1e-12, "{level}");
         // 45° about x, u = (0, 1, 1)/√2: columns y and z of P_u·diag(u∘σ)
         // each have |·|² = σ²/4 with the prior mixture's σ² = 0.03²/2, so
         // σ_dir² = 0.03²/4 + (σ_b/g)² (the bias's three columns: 1 + 1/2 + 1/2
         // times its mixture's σ_b²/2)
-        let tilted = l.rest_trust(&p, &Vector3::new(0.0, 6.0, 6.0));
+        let tilted = l.rest_trust(&p, &Vector3::new(0.0, 6.0, 6.0), true);
         let want = st2 / (st2 + 0.03 * 0.03 / 4.0 + b2);
         assert!((tilted - want).abs() < 1e-12, "{tilted} against {want}");
         // after a pair, the learnt σ: a bias doubt along gravity does not
@@ -5656,12 +5667,19 @@ mod tests {
         learnt.pairs = 1;
         learnt.sd[6] = 0.05;
         learnt.sd[8] = 0.3;
-        let level = learnt.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8));
+        let level = learnt.rest_trust(&p, &Vector3::new(0.0, 0.0, 9.8), true);
         let bx = (0.05 / p.gravity_m_s2) * (0.05 / p.gravity_m_s2);
         assert!((level - st2 / (st2 + bx)).abs() < 1e-12, "{level}");
+        // not `learnt` (a sample that carries a sway): the prior's weight
+        let f = Vector3::new(0.0, 6.0, 6.0);
+        assert_eq!(learnt.rest_trust(&p, &f, false), l.rest_trust(&p, &f, true));
+        assert_ne!(learnt.rest_trust(&p, &f, true), l.rest_trust(&p, &f, true));
         // no specific force, or NaN: no trust
-        assert_eq!(l.rest_trust(&p, &Vector3::zeros()), 0.0);
-        assert_eq!(l.rest_trust(&p, &Vector3::new(f64::NAN, 0.0, 9.8)), 0.0);
+        assert_eq!(l.rest_trust(&p, &Vector3::zeros(), true), 0.0);
+        assert_eq!(
+            l.rest_trust(&p, &Vector3::new(f64::NAN, 0.0, 9.8), true),
+            0.0
+        );
     }
 
     #[test]
@@ -5717,13 +5735,13 @@ mod tests {
         // and the trust in the accelerometer rises with it: level, the bias
         // prior's (σ_b/g)² against 0.01² plus what the move added
         let f = Vector3::new(0.0, 0.0, 9.8);
-        let before = ScaleLearner::new().rest_trust(&p, &f);
+        let before = ScaleLearner::new().rest_trust(&p, &f, true);
         let mut moved = ScaleLearner::new();
         moved.move_var = 9e-4;
         let st2 = REST_TILT_SIGMA_RAD * REST_TILT_SIGMA_RAD;
         let b2 = (p.accel_bias_sigma / p.gravity_m_s2).powi(2);
         let want = (st2 + 9e-4) / (st2 + 9e-4 + b2);
-        let got = moved.rest_trust(&p, &f);
+        let got = moved.rest_trust(&p, &f, true);
         assert!(
             (got - want).abs() < 1e-12 && got > before,
             "{got} {want} {before}"
