@@ -28,7 +28,8 @@
 //! one way about its horizontal axis in runs and stops, and the slewing
 //! excavator. The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms, a
-//! board warming up, a wide gyro range), or mounted on its side or upside
+//! board warming up, a wide gyro range, a gyro 1 ms behind its
+//! accelerometer), or mounted on its side or upside
 //! down on the moving body ([`Mounted`]).
 //!
 //! Simulated recordings are scored from the end of their initial rest on
@@ -332,6 +333,13 @@ enum Sensor {
     Sideways,
     /// The calibrated sensor mounted upside down (turned 180° about x).
     UpsideDown,
+    /// The calibrated sensor with its gyro 1 ms behind its accelerometer
+    /// (its anti-alias low-pass's delay 1/(2πf_c) 1 ms longer): an
+    /// MPU6050 with DLPF_CFG = 0 (the 1-kHz rate) has the accelerometer at
+    /// 0 ms and the gyro at 0.98 ms (datasheet), a period at 1 kHz; parts
+    /// that filter each triad separately can be further apart. No filter
+    /// is told.
+    GyroLag,
 }
 
 impl Sensor {
@@ -349,6 +357,7 @@ impl Sensor {
             Sensor::GyroBias => "gyro-bias3dps",
             Sensor::Sideways => "sideways",
             Sensor::UpsideDown => "upside-down",
+            Sensor::GyroLag => "gyro-lag1ms",
         }
     }
 
@@ -380,6 +389,12 @@ impl Sensor {
             Sensor::WarmUp => m.temperature.rate_c_per_s = 0.05,
             Sensor::GyroBias => m.gyro.bias = Vec3::new(3.0, -2.0, 1.5).map(f64::to_radians),
             Sensor::Sideways | Sensor::UpsideDown => {}
+            Sensor::GyroLag => {
+                let tau = 1.0 / (std::f64::consts::TAU * (0.4 * rate).min(98.0)) + 1e-3;
+                m.gyro.bandwidth = clino::sim::imu::Bandwidth::FirstOrder {
+                    cutoff_hz: 1.0 / (std::f64::consts::TAU * tau),
+                };
+            }
             Sensor::WideGyro => m.gyro.range = 2000f64.to_radians(),
             Sensor::CrossAxis => {
                 // asymmetric: a misalignment (antisymmetric part) and a
@@ -1461,6 +1476,10 @@ fn main() -> clino::Result<()> {
         (Kind::Hand, Sensor::UpsideDown, 40.0),
         (Kind::SlowVib, Sensor::Sideways, 125.0),
         (Kind::SlowBoom, Sensor::UpsideDown, 125.0),
+        (Kind::Hand, Sensor::GyroLag, 1000.0),
+        (Kind::Shake, Sensor::GyroLag, 100.0),
+        (Kind::Drum, Sensor::GyroLag, 100.0),
+        (Kind::Drum, Sensor::GyroLag, 1000.0),
         (Kind::SlowRock, Sensor::Calibrated, 125.0),
         (Kind::SlowRock, Sensor::GyroScale, 125.0),
         (Kind::SlowRock, Sensor::Calibrated, 25.0),
