@@ -1726,7 +1726,7 @@ mod tests {
         // (generalise, 8 seeds: 0.95× VQF's error). The rests' ends are
         // means that the sway averages out of; with their pairs (10 and 7)
         // the scale error is down from 2.7 % to 0.8 and 1.2 %, and the tilt
-        // is 0.172° and 0.177° (0.79×).
+        // is 0.172° and 0.177° (generalise, 8 seeds: 0.79×).
         let truth = Vec3::new(0.02, -0.015, 0.01);
         let runs = [(1, 2.4), (2, 3.6)].map(|(seed, hz)| boom_with_gyro_scale(seed, hz));
         for (tilt, scale, pairs) in runs {

@@ -3142,8 +3142,9 @@ impl AttitudeFilter for Dynamic {
                 };
                 // A short rest and a held pose pull on the sample's own
                 // specific force (below), which on a swaying base carries
-                // the sway's linear acceleration (1.5 m/s² at 1.5–5 Hz: the
-                // pull passes 3–10 % of it into the tilt). What the rest
+                // the sway's linear acceleration (1.5 m/s² at 1.5–5 Hz: a
+                // pull of 0.3 rad/s passes 1–3 % of it into the tilt, up to
+                // 0.3°). What the rest
                 // pairs teach of the accelerometer's calibration does not
                 // bound that, so while a sway is notched they keep the
                 // weight they had before any pair (the slow arm on a swaying
