@@ -896,10 +896,7 @@ impl MountEstimator {
         let r_now = Vec3::from_fn(|i, _| self.x[6 + i]);
         let armless = nu + rh * (r_now - self.opts.lever_arm_m);
         let unseen = armless - rh * (self.lever_unseen - self.opts.lever_arm_m);
-        // how much that arm knew: the share of its prediction's expected
-        // error that is the blocks' noise, not the arm's own uncertainty
-        let spread = (rh * self.lever_unseen_p * rh.transpose()).trace() / 3.0;
-        let known = self.noise_var / (self.noise_var + spread);
+        let known = prediction_weight(self.noise_var, &rh, &self.lever_unseen_p);
         self.lever_unseen = r_now;
         self.lever_unseen_p = self.p.fixed_view::<3, 3>(6, 6).into_owned();
         let hph = hm * self.p * hm.transpose();
@@ -992,11 +989,53 @@ impl MountEstimator {
     }
 }
 
+/// How much an arm of covariance `p` knew when it predicted a block of
+/// regressor `rh` ([`MountEstimator::lever_explains`]): the share of the
+/// prediction's expected error that is the blocks' noise `noise_var`,
+/// σ²/(σ² + tr(Hᵣ P Hᵣᵀ)/3), in (0, 1] for a finite P and σ² > 0 (NaN
+/// otherwise, which keeps the share, and so the gate, shut).
+fn prediction_weight(
+    noise_var: f64,
+    rh: &nalgebra::Matrix3<f64>,
+    p: &nalgebra::Matrix3<f64>,
+) -> f64 {
+    let spread = (rh * p * rh.transpose()).trace() / 3.0;
+    noise_var / (noise_var + spread)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
     use nalgebra::Vector3;
+
+    #[test]
+    fn a_prediction_weighs_by_the_share_of_its_error_that_is_noise() {
+        // an arm known to σ_r = 0.1 m per axis, a block turning at ω̇ = 2 rad/s²
+        // about z with no rate: Hᵣ = ω̇×, whose rows x and y carry ω̇·σ_r;
+        // tr(Hᵣ P Hᵣᵀ) = 2·(2·0.1)², the spread 0.08/3 (m/s²)²
+        let rh = Vec3::new(0.0, 0.0, 2.0).cross_matrix();
+        let p = nalgebra::Matrix3::identity() * 0.01;
+        let sigma2 = 0.02 * 0.02;
+        let want = sigma2 / (sigma2 + 0.08 / 3.0);
+        assert_relative_eq!(prediction_weight(sigma2, &rh, &p), want, epsilon = 1e-15);
+        // an arm known exactly: the whole weight; one not known at all: none
+        let zero = nalgebra::Matrix3::zeros();
+        assert_eq!(prediction_weight(sigma2, &rh, &zero), 1.0);
+        assert!(prediction_weight(sigma2, &rh, &(p * 1e12)) < 1e-9);
+        // the spread is a rotation invariant: the same turn about another
+        // axis, with an isotropic P, weighs the same
+        let q = nalgebra::Rotation3::from_euler_angles(0.4, -1.1, 0.3);
+        let turned = q.matrix() * rh * q.matrix().transpose();
+        assert_relative_eq!(
+            prediction_weight(sigma2, &turned, &p),
+            want,
+            epsilon = 1e-12
+        );
+        // no learnt noise or a non-finite covariance: NaN, never a weight
+        assert!(prediction_weight(0.0, &rh, &zero).is_nan());
+        assert!(prediction_weight(sigma2, &rh, &(p * f64::NAN)).is_nan());
+    }
 
     #[test]
     fn a_sway_makes_blocks_of_whole_periods() {
