@@ -825,6 +825,95 @@ fn delay_table(seeds: u64, dynamic: &FilterSpec) {
     }
 }
 
+/// A gyro 1 ms behind its accelerometer (the grid's `gyro-lag1ms`, an
+/// MPU6050 at DLPF_CFG = 0): VQF; `dynamic` as given; with the sensor's
+/// delay told (`sensor_delay_periods`, the gyro's: the simulator's
+/// first-order low-pass, 1/(2π·min(0.4·rate, 98 Hz)) and the 1 ms); and with
+/// `gyro_lag_s` told as well, and told the wrong way round (−1 ms), over
+/// the motion and at rest; the offline smoother as given and told both.
+fn lag_table(seeds: u64, dynamic: &FilterSpec) {
+    let FilterSpec::Dynamic(base) = dynamic else {
+        return;
+    };
+    const LAG_S: f64 = 1e-3;
+    println!(
+        "\na gyro 1 ms behind its accelerometer: inclination RMSE (mean over the seeds), ratio to VQF's"
+    );
+    println!(
+        "{:<26}{:>7}{:>8}{:>14}{:>14}{:>14}{:>14}{:>14}{:>14}{:>14}{:>10}{:>10}",
+        "condition",
+        "delay",
+        "vqf °",
+        "dynamic",
+        "delay told",
+        "+ lag told",
+        "lag -1 ms",
+        "at rest",
+        "rest, delay",
+        "rest, + lag",
+        "offline",
+        "both told"
+    );
+    for (kind, rate) in [
+        (Kind::Hand, 1000.0),
+        (Kind::Shake, 100.0),
+        (Kind::Drum, 100.0),
+        (Kind::Drum, 1000.0),
+    ] {
+        let c = Condition {
+            name: format!("{}@{rate}Hz gyro-lag1ms", kind.name()),
+            kind,
+            sensor: Sensor::GyroLag,
+            rate,
+        };
+        // the gyro's delay in periods (the sensor's model in `make`)
+        let delay = (1.0 / (std::f64::consts::TAU * (0.4 * rate).min(98.0)) + LAG_S) * rate;
+        let told = |lag: f64| {
+            FilterSpec::Dynamic(DynamicParams {
+                sensor_delay_periods: delay,
+                gyro_lag_s: lag,
+                ..*base
+            })
+        };
+        let (delay_only, both, wrong) = (told(0.0), told(LAG_S), told(-LAG_S));
+        // means: VQF, dynamic, delay, both, wrong; at rest: VQF, dynamic,
+        // delay, both; offline: as given, both told
+        let mut m = [0.0f64; 11];
+        for seed in 1..=seeds {
+            let rec = make(&c, seed);
+            let est = [
+                run_vqf(&rec),
+                run_clino(&rec, dynamic),
+                run_clino(&rec, &delay_only),
+                run_clino(&rec, &both),
+                run_clino(&rec, &wrong),
+            ];
+            let mut row: Vec<f64> = est.iter().map(|q| rmse(&rec, q)).collect();
+            row.extend(est[..4].iter().map(|q| rmse_over(&rec, q, &rec.rest)));
+            row.push(rmse(&rec, &run_offline(&rec, dynamic)));
+            row.push(rmse(&rec, &run_offline(&rec, &both)));
+            for (a, x) in m.iter_mut().zip(row) {
+                *a += x / seeds as f64;
+            }
+        }
+        let cell = |x: f64, vqf: f64| format!("{x:.3} {:>5.2}", x / vqf);
+        println!(
+            "{:<26}{delay:>7.2}{:>8.3}{:>14}{:>14}{:>14}{:>14}{:>14}{:>14}{:>14}{:>10.3}{:>10.3}",
+            c.name,
+            m[0],
+            cell(m[1], m[0]),
+            cell(m[2], m[0]),
+            cell(m[3], m[0]),
+            cell(m[4], m[0]),
+            cell(m[6], m[5]),
+            cell(m[7], m[5]),
+            cell(m[8], m[5]),
+            m[9],
+            m[10]
+        );
+    }
+}
+
 /// What the rest pairs' learner buys and costs: `dynamic` as given, with the
 /// accelerometer scale's prior halved (1.5 %: the MPU6050's ±3 % read as a
 /// two-sigma band), with the accelerometer's scale and bias not learnt, and
@@ -1647,6 +1736,9 @@ fn main() -> clino::Result<()> {
     }
     if only.as_deref().is_none_or(|o| "delay".contains(o)) {
         delay_table(seeds, &dynamic);
+    }
+    if only.as_deref().is_none_or(|o| "lag".contains(o)) {
+        lag_table(seeds, &dynamic);
     }
     if only.as_deref().is_none_or(|o| "learner".contains(o)) {
         learner_table(seeds, &dynamic);

@@ -254,6 +254,20 @@ impl Dlpf {
         [260, 184, 94, 44, 21, 10, 5][self.cfg() as usize]
     }
 
+    /// The accelerometer filter's delay, µs (register map §4.3, CONFIG's
+    /// table): 0, 2.0, 3.0, 4.9, 8.5, 13.8 and 19.0 ms.
+    pub const fn accel_delay_us(self) -> u32 {
+        [0, 2000, 3000, 4900, 8500, 13_800, 19_000][self.cfg() as usize]
+    }
+
+    /// The gyroscope filter's delay, µs (register map §4.3, CONFIG's
+    /// table): 0.98, 1.9, 2.8, 4.8, 8.3, 13.4 and 18.6 ms. With the filter
+    /// off the gyroscope is 0.98 ms behind the accelerometer; at every
+    /// other setting it is 0.1–0.4 ms ahead.
+    pub const fn gyro_delay_us(self) -> u32 {
+        [980, 1900, 2800, 4800, 8300, 13_400, 18_600][self.cfg() as usize]
+    }
+
     /// Gyroscope output rate, Hz: 8000 with the filter off (DLPF_CFG = 0), else 1000.
     pub const fn gyro_output_rate_hz(self) -> u16 {
         if self.cfg() == 0 { 8000 } else { 1000 }
@@ -286,6 +300,22 @@ impl Config {
     /// Sample rate, Hz: gyro output rate / (1 + SMPLRT_DIV) (register map §4.2).
     pub fn sample_rate_hz(&self) -> f64 {
         f64::from(self.dlpf.gyro_output_rate_hz()) / (1.0 + f64::from(self.sample_rate_divider))
+    }
+
+    /// How far behind the instant they are read the accelerometer's and the
+    /// gyroscope's data registers stand, s: each filter's delay
+    /// ([`Dlpf::accel_delay_us`], [`Dlpf::gyro_delay_us`]) and, read at
+    /// times not tied to the sensor's sample clock, half the period at which
+    /// the registers take a new sample (on average that old): the sample
+    /// rate's, and for the accelerometer at most its own 1 kHz. Read on the
+    /// data-ready flag (`synced`) the registers are fresh.
+    pub fn data_delays_s(&self, synced: bool) -> [f64; 2] {
+        let fs = self.sample_rate_hz();
+        let age = |rate: f64| if synced { 0.0 } else { 0.5 / rate };
+        [
+            f64::from(self.dlpf.accel_delay_us()) * 1e-6 + age(fs.min(1000.0)),
+            f64::from(self.dlpf.gyro_delay_us()) * 1e-6 + age(fs),
+        ]
     }
 
     /// The divider that gives exactly `rate_hz` with this configuration's

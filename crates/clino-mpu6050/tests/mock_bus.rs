@@ -188,6 +188,38 @@ fn sample_rate_dividers() {
 }
 
 #[test]
+fn data_delays_are_the_filters_and_half_the_register_period() {
+    // register map §4.3: with the filter off the gyro is 0.98 ms behind the
+    // accelerometer (0 ms); at 44 Hz / 42 Hz they are 4.9 and 4.8 ms
+    let at = |dlpf, hz| {
+        let mut c = Config { dlpf, ..cfg() };
+        c.sample_rate_divider = c.divider_for(hz).unwrap();
+        c
+    };
+    let close =
+        |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12;
+    // read on the data-ready flag: the filters' delays alone
+    let d = at(Dlpf::Bw260Hz, 8000).data_delays_s(true);
+    assert!(close(d, [0.0, 0.98e-3]), "{d:?}");
+    let d = at(Dlpf::Bw44Hz, 100).data_delays_s(true);
+    assert!(close(d, [4.9e-3, 4.8e-3]), "{d:?}");
+    // read on a clock of its own: half a register period more, the
+    // accelerometer's at most its own 1 kHz (8 kHz gyro: 0.0625 ms)
+    let d = at(Dlpf::Bw260Hz, 8000).data_delays_s(false);
+    assert!(close(d, [0.5e-3, 0.98e-3 + 0.0625e-3]), "{d:?}");
+    let d = at(Dlpf::Bw44Hz, 1000).data_delays_s(false);
+    assert!(close(d, [5.4e-3, 5.3e-3]), "{d:?}");
+    let d = at(Dlpf::Bw5Hz, 100).data_delays_s(false);
+    assert!(close(d, [24.0e-3, 23.6e-3]), "{d:?}");
+    // every setting: the gyro within 0.4 ms of the accelerometer but at 0
+    for k in 1..=6 {
+        let f = Dlpf::from_cfg(k).unwrap();
+        let lag = f64::from(f.gyro_delay_us()) - f64::from(f.accel_delay_us());
+        assert!((-400.0..0.0).contains(&lag), "{k}: {lag} µs");
+    }
+}
+
+#[test]
 fn protocol_values_round_trip() {
     for g in [2, 4, 8, 16] {
         assert_eq!(AccelRange::from_g(g).unwrap().g(), g);

@@ -22,6 +22,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use clino_core::filter::DynamicParams;
 use clino_core::pipeline::{Output, Pipeline, Status, TiltOutput};
 use clino_core::protocol::{self, Frame, FrameError, Notice};
 use clino_core::{ImuSample, Vec3};
@@ -159,6 +160,70 @@ pub struct StreamOutputs {
     pub record: Option<Recorder>,
 }
 
+/// A sensor's timing as the dynamic filter takes it: the delay behind its
+/// time stamps of the instant the gyro's samples stand for, in sample
+/// periods ([`DynamicParams::sensor_delay_periods`]), and how much later
+/// that is than the accelerometer's ([`DynamicParams::gyro_lag_s`]).
+///
+/// An MPU6050's are its low-pass filter's delays and the age of its data
+/// registers when read ([`clino_mpu6050::Config::data_delays_s`]): at the
+/// I²C source's defaults (44 Hz, read at 100 Hz from a 1-kHz sample clock)
+/// 0.53 periods and −0.1 ms, near the filter's default half period; read
+/// at 1 kHz, 5.3 periods; with the filter off at 1 kHz, 1.48 periods and
+/// the gyro 0.98 ms behind. Each millisecond missed is a tilt error of
+/// ω·1 ms while turning (0.11° at 2 rad/s), and a lag missed is left as
+/// tilt at the stop (`generalise --only lag`, BENCHMARKS.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorTiming {
+    /// The gyro's delay behind the time stamps, sample periods.
+    pub sensor_delay_periods: f64,
+    /// The gyro's delay beyond the accelerometer's, s.
+    pub gyro_lag_s: f64,
+}
+
+impl SensorTiming {
+    /// An MPU6050 in configuration `config`, its samples stamped at the
+    /// instants they are read, `read_rate_hz` times a second (on the
+    /// data-ready flag when `synced`).
+    pub fn mpu6050(config: &clino_mpu6050::Config, synced: bool, read_rate_hz: f64) -> Self {
+        let [acc, gyr] = config.data_delays_s(synced);
+        Self {
+            sensor_delay_periods: gyr * read_rate_hz,
+            gyro_lag_s: gyr - acc,
+        }
+    }
+
+    /// A board's, from its CONFIG: the MPU6050 at the board's DLPF setting,
+    /// read at its rate. clino's Cortex-M firmware samples the chip at that
+    /// rate and reads it on the data-ready flag; the Arduino firmware (and
+    /// the host simulator of it) runs the chip at divider 0 and reads the
+    /// freshest sample on a timer of its own. `None` for a DLPF setting the
+    /// chip does not have, or no rate.
+    pub fn of_board(b: &protocol::Config) -> Option<Self> {
+        use clino_mpu6050::{Config, Dlpf};
+        let dlpf = Dlpf::from_cfg(b.dlpf_cfg)?;
+        if b.rate_hz == 0 {
+            return None;
+        }
+        let mut c = Config {
+            dlpf,
+            sample_rate_divider: 0,
+            ..Config::default()
+        };
+        let synced = b.board == 2;
+        if synced {
+            c.sample_rate_divider = c.divider_for(b.rate_hz)?;
+        }
+        Some(Self::mpu6050(&c, synced, f64::from(b.rate_hz)))
+    }
+
+    /// These values in the dynamic filter's parameters.
+    pub fn apply(&self, p: &mut DynamicParams) {
+        p.sensor_delay_periods = self.sensor_delay_periods;
+        p.gyro_lag_s = self.gyro_lag_s;
+    }
+}
+
 /// How to run a stream.
 #[derive(Clone, Copy, Debug)]
 pub struct StreamConfig<'a> {
@@ -171,6 +236,9 @@ pub struct StreamConfig<'a> {
     pub capacity: usize,
     /// Send the filter's roll and pitch to the board's dials (SET_DIALS, 10 per second).
     pub dials: bool,
+    /// Take the dynamic filter's timing from a board's CONFIG
+    /// ([`SensorTiming::of_board`]); off where the user gave it. Default on.
+    pub board_timing: bool,
 }
 
 impl StreamConfig<'_> {
@@ -181,6 +249,7 @@ impl StreamConfig<'_> {
             calibration: None,
             capacity: 4096,
             dials: false,
+            board_timing: true,
         }
     }
 }
@@ -494,11 +563,41 @@ impl Consumer<'_, '_> {
         }
     }
 
+    /// A board's configuration names its DLPF setting and rate: the dynamic
+    /// filter's timing follows them ([`SensorTiming::of_board`]), unless the
+    /// user gave it ([`StreamConfig::board_timing`]). Said once per change.
+    fn board_timing(&mut self, b: &protocol::Config, obs: &mut dyn StreamObserver) {
+        if !self.cfg.board_timing {
+            return;
+        }
+        let (Some(t), Some(f)) = (
+            SensorTiming::of_board(b),
+            self.pipeline.filter_mut().as_dynamic_mut(),
+        ) else {
+            return;
+        };
+        let mut p = *f.params();
+        if p.sensor_delay_periods == t.sensor_delay_periods && p.gyro_lag_s == t.gyro_lag_s {
+            return;
+        }
+        t.apply(&mut p);
+        f.set_params(p);
+        obs.message(&format!(
+            "timing from the board's CONFIG (DLPF_CFG {}, {} Hz): the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer",
+            b.dlpf_cfg,
+            b.rate_hz,
+            t.sensor_delay_periods / f64::from(b.rate_hz) * 1e3,
+            t.sensor_delay_periods,
+            t.gyro_lag_s * 1e3
+        ));
+    }
+
     fn item(&mut self, i: &InBand, obs: &mut dyn StreamObserver) -> Result<()> {
         match i {
             InBand::Sample(s) => self.sample(s, obs),
             InBand::Config(b) => {
                 self.board_ranges(b);
+                self.board_timing(b, obs);
                 Ok(())
             }
         }
@@ -868,6 +967,142 @@ mod tests {
         // the user's ranges are kept
         let r = crate::fusion::SensorRange::from_full_scale(16.0, 2000.0);
         assert_eq!(run_with(r).pipeline.gyro_clipped, 0);
+    }
+
+    /// A board at 100 Hz with its filter at 5 Hz (DLPF_CFG 6; the Arduino
+    /// firmware: divider 0, the chip at 1 kHz, read on a timer): at rest for
+    /// 10 s, then turning about x at 1 rad/s. Its samples stand for the
+    /// instants the datasheet's delays and half the 1-ms register period
+    /// before their stamps: the accelerometer's 19.5 ms, the gyro's 19.1 ms.
+    struct SlowFilterBoard {
+        k: u64,
+    }
+    impl SampleSource for SlowFilterBoard {
+        // the timing these samples are made with, from the datasheet's
+        // table, not from `SensorTiming`
+        fn poll(&mut self, emit: &mut dyn FnMut(SourceEvent)) -> Result<bool> {
+            if self.k == 0 {
+                let c = protocol::Config {
+                    board: 1,
+                    rate_hz: 100,
+                    dlpf_cfg: 6,
+                    ..VECTOR_CONFIG
+                };
+                emit(SourceEvent::Notice(SourceNotice::Link(Notice::Config(c))));
+            }
+            if self.k == 1500 {
+                return Ok(false);
+            }
+            let t = self.k as f64 * 0.01;
+            let (ta, tg) = (t - 0.0195, t - 0.0191);
+            let acc =
+                nalgebra::UnitQuaternion::from_axis_angle(&Vec3::x_axis(), (ta - 10.0).max(0.0))
+                    .inverse_transform_vector(&Vec3::new(0.0, 0.0, 9.80665));
+            let w = if tg > 10.0 { 1.0 } else { 0.0 };
+            emit(SourceEvent::Sample(ImuSample::new(
+                t,
+                Vec3::new(w, 0.0, 0.0),
+                acc,
+            )));
+            self.k += 1;
+            Ok(true)
+        }
+        fn name(&self) -> &str {
+            "slow-filter board"
+        }
+    }
+
+    #[test]
+    fn sensor_timing_is_the_datasheets_delays_in_the_filters_terms() {
+        let close = |t: SensorTiming, periods: f64, lag_ms: f64| {
+            (t.sensor_delay_periods - periods).abs() < 1e-9
+                && (t.gyro_lag_s * 1e3 - lag_ms).abs() < 1e-9
+        };
+        // the I²C source's chip: 1 kHz sample clock, read at 100 Hz on a timer
+        let mut c = clino_mpu6050::Config::default();
+        c.sample_rate_divider = c.divider_for(1000).unwrap();
+        let t = SensorTiming::mpu6050(&c, false, 100.0);
+        assert!(close(t, 0.53, -0.1), "{t:?}");
+        let t = SensorTiming::mpu6050(&c, false, 1000.0);
+        assert!(close(t, 5.3, -0.1), "{t:?}");
+        // an Arduino board (divider 0) with the filter off, at 1 kHz: the
+        // gyro 0.98 ms + 1/16 ms, the accelerometer 0.5 ms
+        let board = |board, rate_hz, dlpf_cfg| protocol::Config {
+            board,
+            rate_hz,
+            dlpf_cfg,
+            ..VECTOR_CONFIG
+        };
+        let t = SensorTiming::of_board(&board(1, 1000, 0)).unwrap();
+        assert!(close(t, 1.0425, 0.5425), "{t:?}");
+        // clino's Cortex-M firmware reads on the data-ready flag: the filter alone
+        let t = SensorTiming::of_board(&board(2, 100, 3)).unwrap();
+        assert!(close(t, 0.48, -0.1), "{t:?}");
+        // no such setting, no rate, a rate the chip cannot divide to
+        assert!(SensorTiming::of_board(&board(1, 100, 7)).is_none());
+        assert!(SensorTiming::of_board(&board(1, 0, 3)).is_none());
+        assert!(SensorTiming::of_board(&board(2, 300, 3)).is_none());
+        // applied: both fields, nothing else
+        let mut p = DynamicParams::default();
+        t.apply(&mut p);
+        assert_eq!((p.sensor_delay_periods, p.gyro_lag_s), (0.48, t.gyro_lag_s));
+        assert_eq!(p.bandwidth_rad_s, DynamicParams::default().bandwidth_rad_s);
+    }
+
+    /// Bytes written to a shared buffer (a stream's CSV output).
+    #[derive(Clone, Default)]
+    struct Shared(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
+    impl Write for Shared {
+        fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+            self.0.lock().unwrap().extend_from_slice(b);
+            Ok(b.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_boards_filter_delay_is_made_up_from_its_config() {
+        // the roll reported 5 s into the turn against the true 5 rad at the
+        // last stamp: with the board's timing (19.1 ms, 1.91 periods) it is
+        // the turn's; with the default half period it lags by ω·14.1 ms
+        let stop = AtomicBool::new(false);
+        let roll_error = |board_timing: bool| {
+            let cfg = StreamConfig {
+                board_timing,
+                ..StreamConfig::new(FilterConfig::new(FilterKind::Dynamic))
+            };
+            let out = Shared::default();
+            let mut outputs = StreamOutputs {
+                csv: Some(FusedCsv::new(Box::new(out.clone()) as Box<dyn Write + Send>).unwrap()),
+                ..Default::default()
+            };
+            run(
+                Box::new(SlowFilterBoard { k: 0 }),
+                &cfg,
+                &mut outputs,
+                &mut Slow(0),
+                &stop,
+            )
+            .unwrap();
+            drop(outputs);
+            let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+            let last = text.lines().last().unwrap().to_string();
+            let cols: Vec<&str> = last.split(',').collect();
+            let t: f64 = cols[0].parse().unwrap();
+            let roll: f64 = cols[5].parse().unwrap();
+            // the true roll at the stamp, wrapped to ±180°
+            let truth = (t - 10.0).to_degrees();
+            let e = (roll - truth).rem_euclid(360.0);
+            e.min(360.0 - e)
+        };
+        // 0.07° told (the rate's onset between two samples, and the loop),
+        // 0.75° not (ω·14.1 ms = 0.81°, less what the loop pulled away)
+        let told = roll_error(true);
+        let not = roll_error(false);
+        assert!(told < 0.15, "{told}°");
+        assert!(not > 0.6, "{not}°");
     }
 
     /// A source whose samples a host stamped as they arrived: 100 Hz for

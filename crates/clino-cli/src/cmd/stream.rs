@@ -202,14 +202,8 @@ fn open_serial(a: &Args, port: &str) -> anyhow::Result<Box<dyn SampleSource + Se
 /// The MPU6050 on the kernel's I²C device `path` (Linux's `/dev/i2c-N`).
 #[cfg(target_os = "linux")]
 fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>> {
-    use clino::io::source::{I2cOptions, I2cSource};
-    let d = I2cOptions::default();
-    let opts = I2cOptions::from_numbers(
-        a.rate.unwrap_or(d.rate_hz),
-        a.accel_fs.unwrap_or(d.accel_range.g()),
-        a.gyro_fs.unwrap_or(d.gyro_range.dps()),
-        a.dlpf.unwrap_or(d.dlpf.accel_bandwidth_hz()),
-    )?;
+    use clino::io::source::I2cSource;
+    let opts = i2c_options(a)?;
     let io = |m: String| clino::Error::new(clino::ErrorKind::Io, m).in_file(path);
     if !Path::new(path).exists() {
         return Err(io(
@@ -227,6 +221,32 @@ fn open_i2c(a: &Args, path: &str) -> anyhow::Result<Box<dyn SampleSource + Send>
         a.address.unwrap_or_default(),
         opts,
     )?))
+}
+
+/// The I²C sensor's options from the flags.
+fn i2c_options(a: &Args) -> anyhow::Result<clino::io::source::I2cOptions> {
+    use clino::io::source::I2cOptions;
+    let d = I2cOptions::default();
+    Ok(I2cOptions::from_numbers(
+        a.rate.unwrap_or(d.rate_hz),
+        a.accel_fs.unwrap_or(d.accel_range.g()),
+        a.gyro_fs.unwrap_or(d.gyro_range.dps()),
+        a.dlpf.unwrap_or(d.dlpf.accel_bandwidth_hz()),
+    )?)
+}
+
+/// True when the filter's text (`NAME:KEY=VALUE,…`) gives the parameter
+/// `key` (in full or without its unit, as [`clino::fusion::parse_spec`]
+/// takes it).
+fn gives(filter: &str, key: &str) -> bool {
+    let Ok(spec) = clino::fusion::parse_spec(filter) else {
+        return false;
+    };
+    filter.split_once(':').is_some_and(|(_, rest)| {
+        rest.split(',')
+            .filter_map(|kv| kv.split_once('='))
+            .any(|(k, _)| spec.param(k).is_some_and(|p| p.key == key))
+    })
 }
 
 /// The likely cause of an error opening an I²C bus.
@@ -310,6 +330,25 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             f64::from(a.gyro_fs.unwrap_or(d.gyro_range.dps())),
         ));
     }
+    // the sensor's timing, where the user did not give it: an MPU6050 on
+    // I²C from the flags here, a board from its CONFIG (clino::stream)
+    let timing_given = gives(&a.filter, "sensor_delay_periods") || gives(&a.filter, "gyro_lag_s");
+    if a.i2c.is_some()
+        && !timing_given
+        && let clino::fusion::FilterSpec::Dynamic(p) = &mut filter.spec
+    {
+        let o = i2c_options(&a)?;
+        let t = clino::stream::SensorTiming::mpu6050(&o.sensor_config(), false, o.rate_hz);
+        t.apply(p);
+        eprintln!(
+            "clino stream: timing from the sensor's settings ({} Hz filter, read at {} Hz): the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer",
+            o.dlpf.accel_bandwidth_hz(),
+            o.rate_hz,
+            t.sensor_delay_periods / o.rate_hz * 1e3,
+            t.sensor_delay_periods,
+            t.gyro_lag_s * 1e3
+        );
+    }
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
         None => None,
@@ -318,6 +357,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     cfg.calibration = calibration.as_ref();
     cfg.capacity = a.buffer;
     cfg.dials = a.dials;
+    cfg.board_timing = !timing_given;
     let source = open_source(&a)?;
     let mut outputs = StreamOutputs::default();
     if a.csv {
@@ -353,4 +393,25 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("  {line}");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gives;
+
+    #[test]
+    fn the_timing_counts_as_given_where_the_filter_names_it() {
+        assert!(gives(
+            "dynamic:sensor_delay_periods=1",
+            "sensor_delay_periods"
+        ));
+        assert!(gives(
+            "dynamic: bandwidth=0.2, sensor_delay=1",
+            "sensor_delay_periods"
+        ));
+        assert!(gives("dynamic:gyro_lag=0.001", "gyro_lag_s"));
+        assert!(!gives("dynamic", "sensor_delay_periods"));
+        assert!(!gives("dynamic:bandwidth=0.2", "gyro_lag_s"));
+        assert!(!gives("mahony:kp=1", "sensor_delay_periods"));
+    }
 }

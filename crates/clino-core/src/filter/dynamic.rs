@@ -186,7 +186,9 @@
 //! * **The sensor's delay.** The gyro carries the attitude from the instant
 //!   one sample stands for to the next one's, as the accelerometer sees it;
 //!   the attitude reported is carried on over the sensor's own delay
-//!   (`DynamicParams::sensor_delay_periods`, half a period by default).
+//!   (`DynamicParams::sensor_delay_periods`, half a period by default). A
+//!   gyro whose filter lags the accelerometer's (`DynamicParams::gyro_lag_s`)
+//!   is met by turning each accelerometer sample back to the gyro's instant.
 //!
 //! Everything is continuous-time: the defaults mean the same thing at 50 Hz
 //! and at 1 kHz. Nothing allocates, nothing can panic; a non-finite sample is
@@ -432,7 +434,10 @@ pub struct DynamicParams {
     /// (`generalise --only delay`; given the delay, 0.17–0.47×). Set the datasheet's delay
     /// over the period where it is known (an MPU6050 at 200 Hz behind its
     /// 44-Hz DLPF: 0.96; at 1 kHz behind the 98-Hz one: 2.8), 0 where the
-    /// time stamps already mark the instant the samples stand for.
+    /// time stamps already mark the instant the samples stand for; where
+    /// the two triads' delays differ, the gyro's, and the difference in
+    /// [`DynamicParams::gyro_lag_s`]. `clino stream` sets both from an
+    /// MPU6050's settings.
     ///
     /// Why: with the newest rate held over each step the gyro leads the
     /// accelerometer by ω·dt/2 while turning; the loop pulls that away, and
@@ -450,6 +455,28 @@ pub struct DynamicParams {
     /// trial (`clino eval --delay` measures it against any reference; with
     /// that value BROAD scores 0.449°).
     pub sensor_delay_periods: f64,
+    /// How much later than the accelerometer's the instant is that the
+    /// gyro's samples stand for, s (negative: earlier); the sensor's delay
+    /// ([`DynamicParams::sensor_delay_periods`]) is then the gyro's, the
+    /// attitude's. Default 0: one delay for both triads.
+    ///
+    /// Each accelerometer sample is turned back to the gyro's instant, by
+    /// the rotation the corrected rate makes over the lag, before anything
+    /// uses it; the attitude reported is carried over the sensor's delay as
+    /// before. Not told, a lag δ is a tilt error ω·δ while the mount turns,
+    /// which the loop pulls away and which the stop then leaves as tilt
+    /// until rest removes it. An MPU6050 at DLPF_CFG = 0 has its gyro
+    /// 0.98 ms behind its accelerometer (datasheet, register 26; 0.1–0.4 ms
+    /// ahead at every other setting). The generalisation grid's gyro 1 ms
+    /// behind, the sensor's delay told (`generalise --only lag`,
+    /// BENCHMARKS.md): the drum at 1 kHz 1.13× VQF's error → 0.59× with
+    /// the lag told too (at its stops 1.34× → 0.81×), at 100 Hz 0.53× →
+    /// 0.28×; a hand or a shaken sensor, whose tilt error is not a turn's,
+    /// unchanged. Not learnt from the data: the loop's correction while
+    /// turning holds the lag and also every linear acceleration that turns
+    /// with the mount. `clino stream` sets it and the sensor's delay from
+    /// an MPU6050's settings (`clino::stream::SensorTiming`).
+    pub gyro_lag_s: f64,
     /// Local gravity, m/s². Default 9.80665.
     pub gravity_m_s2: f64,
     /// Learn the gyro bias (at rest and in motion). Default true; the offline
@@ -484,6 +511,7 @@ impl Default for DynamicParams {
             accel_scale_sigma: 0.03,
             accel_bias_sigma: 0.1,
             sensor_delay_periods: 0.5,
+            gyro_lag_s: 0.0,
             gravity_m_s2: G0,
             learn_bias: true,
         }
@@ -1228,6 +1256,13 @@ fn exp_rotation(w: &Vec3, t: f64) -> Quaternion<f64> {
         (cos(half), sin(half) / wn)
     };
     Quaternion::new(c, s * w.x, s * w.y, s * w.z)
+}
+
+/// The vector `a` seen from the body `t` seconds before, while it turns at
+/// `w` (body frame): exp([ω]·t)·a, the rotation by the vector ω·t. A vector
+/// fixed in space, read at t₀ + t, is what it was at t₀ turned back.
+fn turned_over(a: &Vec3, w: &Vec3, t: f64) -> Vec3 {
+    nalgebra::UnitQuaternion::new_unchecked(exp_rotation(w, t)) * a
 }
 
 /// The step of the rotation between two rests (the learner's rest pairs):
@@ -2577,6 +2612,14 @@ impl AttitudeFilter for Dynamic {
         // the accelerometer's learnt scale errors and bias (zero until rest
         // pairs show them)
         let acc = correct_specific_force(&acc, &self.gsl.d, &self.gsl.b);
+        // the accelerometer at the gyro's instant ([`DynamicParams::gyro_lag_s`])
+        let acc = if self.params.gyro_lag_s != 0.0 {
+            let w = (gyr - self.bias)
+                .component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale));
+            turned_over(&acc, &w, self.params.gyro_lag_s)
+        } else {
+            acc
+        };
         match admit(&gyr, &acc, dt, self.initialised) {
             Admit::Run => {}
             Admit::Init(q) => {
@@ -5323,6 +5366,12 @@ mod tests {
     /// 10–20 s of the turn and over 1–6 s of the stop, of the attitude
     /// reported against the truth at the time stamp, degrees.
     fn drum_errors(params: DynamicParams, lag: f64) -> (f64, f64) {
+        drum_errors_lagged(params, lag, 0.0)
+    }
+
+    /// [`drum_errors`] with the gyro's samples `gyro_lag` periods behind
+    /// the accelerometer's.
+    fn drum_errors_lagged(params: DynamicParams, lag: f64, gyro_lag: f64) -> (f64, f64) {
         let h = 0.01;
         let w = |t: f64| 2.0 * ((t - 5.0).clamp(0.0, 1.0) - (t - 26.0).clamp(0.0, 1.0));
         // the angle turned: the integral of w
@@ -5340,7 +5389,7 @@ mod tests {
             let t = k as f64 * h;
             let ts = t - lag * h;
             let acc = truth(ts).inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
-            f.update(Vector3::new(w(ts), 0.0, 0.0), acc, h);
+            f.update(Vector3::new(w(ts - gyro_lag * h), 0.0, 0.0), acc, h);
             let e = tilt_err(&f.attitude(), &truth(t)).to_degrees();
             if (10.0..20.0).contains(&t) {
                 turning = turning.max(e);
@@ -5580,6 +5629,58 @@ mod tests {
         // no rate yet: the state itself
         f.w_prev = Vector3::repeat(f64::NAN);
         assert_eq!(f.attitude(), f.q);
+    }
+
+    #[test]
+    fn a_gyro_behind_its_accelerometer_is_told_and_the_stop_keeps_no_tilt() {
+        // The accelerometer's samples at their time stamps, the gyro's a
+        // whole period (10 ms) behind: the sensor's delay, the gyro's, is
+        // one period. Not told of the lag: while the drum turns at 2 rad/s
+        // the gyro-carried state is ω·δ = 1.15° behind what the
+        // accelerometer shows; the loop pulls part of that away, and at the
+        // stop, where the gyro catches up, the part pulled away is tilt.
+        // Told, the accelerometer is turned back to the gyro's instant:
+        // nothing to pull away, nothing left.
+        let lagged = |sensor_delay_periods: f64, gyro_lag_s: f64| DynamicParams {
+            sensor_delay_periods,
+            gyro_lag_s,
+            ..Default::default()
+        };
+        let (turning, stopped) = drum_errors_lagged(lagged(1.0, 0.01), 0.0, 1.0);
+        assert!(turning < 0.02, "{turning}°");
+        assert!(stopped < 0.02, "{stopped}°");
+        // not told: 1.45° while turning (the loop has pulled the state most
+        // of the 1.15° ahead, and the output is carried a period further),
+        // 0.87° at the stop; told, 0.001° and 0.003°
+        let (turning, stopped) = drum_errors_lagged(lagged(1.0, 0.0), 0.0, 1.0);
+        assert!(turning > 1.0, "{turning}°");
+        assert!(stopped > 0.5, "{stopped}°");
+        // the lag the wrong way round doubles the error (2.89°)
+        let (turning_wrong, _) = drum_errors_lagged(lagged(1.0, -0.01), 0.0, 1.0);
+        assert!(
+            turning_wrong > 1.5 * turning,
+            "{turning_wrong}° against {turning}°"
+        );
+        // a gyro ahead of its accelerometer (a negative lag) is told alike:
+        // the accelerometer a period behind its stamp, the gyro at it
+        let (turning, stopped) = drum_errors_lagged(lagged(0.0, -0.01), 1.0, -1.0);
+        assert!(turning < 0.02, "{turning}°");
+        assert!(stopped < 0.02, "{stopped}°");
+    }
+
+    #[test]
+    fn the_accelerometer_turned_over_the_lag_is_the_rotation_back() {
+        // exp([ω]t)·a against nalgebra's rotation, and the first-order
+        // a + t·ω×a for a small turn
+        let a = Vector3::new(0.3, -1.2, 9.7);
+        let w = Vector3::new(0.6, -0.48, 0.64) * 2.5;
+        for t in [1e-3, -1e-3, 0.02, 0.5] {
+            let exact = nalgebra::Rotation3::new(w * t) * a;
+            assert!((turned_over(&a, &w, t) - exact).norm() < 1e-12, "{t}");
+        }
+        let t = 1e-4;
+        let first = a + w.cross(&a) * t;
+        assert!((turned_over(&a, &w, t) - first).norm() < 1e-6);
     }
 
     #[test]

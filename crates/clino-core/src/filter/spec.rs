@@ -214,7 +214,7 @@ const MADGWICK_PARAMS: [ParamInfo; 1] = [p(
     NON_NEGATIVE,
     "gradient step (gyro error it corrects)",
 )];
-const DYNAMIC_PARAMS: [ParamInfo; 26] = [
+const DYNAMIC_PARAMS: [ParamInfo; 27] = [
     p(
         "bandwidth_rad_s",
         "rad/s",
@@ -356,8 +356,14 @@ const DYNAMIC_PARAMS: [ParamInfo; 26] = [
     p(
         "sensor_delay_periods",
         "periods",
-        num(0.0, 10.0, false),
+        num(0.0, 100.0, false),
         "the sensor's delay of its samples behind their time stamps (its anti-alias filter), in sample periods; the output is carried over it",
+    ),
+    p(
+        "gyro_lag_s",
+        "s",
+        num(-0.1, 0.1, false),
+        "how much later the gyro's samples stand for than the accelerometer's (0.00098 for an MPU6050 at DLPF_CFG 0)",
     ),
     p(
         "gravity_m_s2",
@@ -579,6 +585,7 @@ impl FilterSpec {
                     "accel_scale_sigma" => &mut d.accel_scale_sigma,
                     "accel_bias_sigma" => &mut d.accel_bias_sigma,
                     "sensor_delay_periods" => &mut d.sensor_delay_periods,
+                    "gyro_lag_s" => &mut d.gyro_lag_s,
                     "gravity_m_s2" => &mut d.gravity_m_s2,
                     _ => return Err(ParamError::UnknownKey),
                 };
@@ -634,6 +641,7 @@ impl FilterSpec {
                 "accel_scale_sigma" => n(d.accel_scale_sigma),
                 "accel_bias_sigma" => n(d.accel_bias_sigma),
                 "sensor_delay_periods" => n(d.sensor_delay_periods),
+                "gyro_lag_s" => n(d.gyro_lag_s),
                 "gravity_m_s2" => n(d.gravity_m_s2),
                 _ => return None,
             },
@@ -698,6 +706,7 @@ impl FilterSpec {
                     ("accel_scale_sigma", d.accel_scale_sigma),
                     ("accel_bias_sigma", d.accel_bias_sigma),
                     ("sensor_delay_periods", d.sensor_delay_periods),
+                    ("gyro_lag_s", d.gyro_lag_s),
                     ("gravity_m_s2", d.gravity_m_s2),
                 ];
                 for (k, x) in all {
@@ -816,7 +825,9 @@ mod tests {
                 let mut s = FilterSpec::default_for(kind);
                 let value = match info.ty {
                     ParamType::Number { min, max, .. } => {
-                        if max <= 1.0 {
+                        if max <= 0.1 {
+                            "0.05"
+                        } else if max <= 1.0 {
                             "0.5"
                         } else if min >= 0.0 {
                             "1.25"
