@@ -104,6 +104,18 @@ impl Recorder {
         Ok(())
     }
 
+    /// Note `text` in the recording: a `#` comment line in a CSV one, which
+    /// `clino fuse` skips; false for Parquet, which has no such lines.
+    pub fn comment(&mut self, text: &str) -> Result<bool> {
+        match &mut self.sink {
+            RecordSink::Csv(w) => w
+                .comment(text)
+                .map(|_| true)
+                .map_err(|e| Error::from(e).in_file(&self.path)),
+            RecordSink::Parquet(_) => Ok(false),
+        }
+    }
+
     /// Push what is buffered to the temporary file.
     pub fn flush(&mut self) -> Result<()> {
         self.last_flush = Instant::now();
@@ -215,6 +227,27 @@ impl SensorTiming {
             c.sample_rate_divider = c.divider_for(b.rate_hz)?;
         }
         Some(Self::mpu6050(&c, synced, f64::from(b.rate_hz)))
+    }
+
+    /// The filter's text that gives these values (`clino fuse --filter`),
+    /// exact: to fuse a recording of the stream as the stream did.
+    pub fn filter_text(&self) -> String {
+        format!(
+            "dynamic:sensor_delay_periods={},gyro_lag_s={}",
+            self.sensor_delay_periods, self.gyro_lag_s
+        )
+    }
+
+    /// What a stream says, and notes in its recording, when it takes this
+    /// timing from the sensor's settings (`source`).
+    pub fn notice(&self, source: &str, rate_hz: f64) -> String {
+        format!(
+            "timing from {source}: the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer; `clino fuse --filter {}` fuses a recording of this stream alike",
+            self.sensor_delay_periods / rate_hz * 1e3,
+            self.sensor_delay_periods,
+            self.gyro_lag_s * 1e3,
+            self.filter_text()
+        )
     }
 
     /// These values in the dynamic filter's parameters.
@@ -566,30 +599,34 @@ impl Consumer<'_, '_> {
     /// A board's configuration names its DLPF setting and rate: the dynamic
     /// filter's timing follows them ([`SensorTiming::of_board`]), unless the
     /// user gave it ([`StreamConfig::board_timing`]). Said once per change.
-    fn board_timing(&mut self, b: &protocol::Config, obs: &mut dyn StreamObserver) {
+    fn board_timing(&mut self, b: &protocol::Config, obs: &mut dyn StreamObserver) -> Result<()> {
         if !self.cfg.board_timing {
-            return;
+            return Ok(());
         }
         let (Some(t), Some(f)) = (
             SensorTiming::of_board(b),
             self.pipeline.filter_mut().as_dynamic_mut(),
         ) else {
-            return;
+            return Ok(());
         };
         let mut p = *f.params();
         if p.sensor_delay_periods == t.sensor_delay_periods && p.gyro_lag_s == t.gyro_lag_s {
-            return;
+            return Ok(());
         }
         t.apply(&mut p);
         f.set_params(p);
-        obs.message(&format!(
-            "timing from the board's CONFIG (DLPF_CFG {}, {} Hz): the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer",
-            b.dlpf_cfg,
-            b.rate_hz,
-            t.sensor_delay_periods / f64::from(b.rate_hz) * 1e3,
-            t.sensor_delay_periods,
-            t.gyro_lag_s * 1e3
-        ));
+        let text = t.notice(
+            &format!(
+                "the board's CONFIG (DLPF_CFG {}, {} Hz)",
+                b.dlpf_cfg, b.rate_hz
+            ),
+            f64::from(b.rate_hz),
+        );
+        obs.message(&text);
+        if let Some(r) = self.outputs.record.as_mut() {
+            r.comment(&format!("clino stream: {text}"))?;
+        }
+        Ok(())
     }
 
     fn item(&mut self, i: &InBand, obs: &mut dyn StreamObserver) -> Result<()> {
@@ -597,8 +634,7 @@ impl Consumer<'_, '_> {
             InBand::Sample(s) => self.sample(s, obs),
             InBand::Config(b) => {
                 self.board_ranges(b);
-                self.board_timing(b, obs);
-                Ok(())
+                self.board_timing(b, obs)
             }
         }
     }
@@ -1049,6 +1085,16 @@ mod tests {
         assert_eq!(p.bandwidth_rad_s, DynamicParams::default().bandwidth_rad_s);
     }
 
+    /// An observer that keeps what it is told once.
+    struct Said(Vec<String>);
+    impl StreamObserver for Said {
+        fn notice(&mut self, _: &SourceNotice, _: &StreamCounts) {}
+        fn message(&mut self, text: &str) {
+            self.0.push(text.to_string());
+        }
+        fn tick(&mut self, _: &LiveStatus) {}
+    }
+
     /// Bytes written to a shared buffer (a stream's CSV output).
     #[derive(Clone, Default)]
     struct Shared(std::sync::Arc<std::sync::Mutex<Vec<u8>>>);
@@ -1068,26 +1114,58 @@ mod tests {
         // last stamp: with the board's timing (19.1 ms, 1.91 periods) it is
         // the turn's; with the default half period it lags by ω·14.1 ms
         let stop = AtomicBool::new(false);
+        let tmp = tempfile::Builder::new()
+            .prefix("clino-stream-test-")
+            .tempdir()
+            .unwrap();
         let roll_error = |board_timing: bool| {
             let cfg = StreamConfig {
                 board_timing,
                 ..StreamConfig::new(FilterConfig::new(FilterKind::Dynamic))
             };
             let out = Shared::default();
+            let rec = tmp.path().join(format!("rec-{board_timing}.csv"));
             let mut outputs = StreamOutputs {
                 csv: Some(FusedCsv::new(Box::new(out.clone()) as Box<dyn Write + Send>).unwrap()),
-                ..Default::default()
+                record: Some(Recorder::create(&rec, &[]).unwrap()),
             };
+            let mut said = Said(Vec::new());
             run(
                 Box::new(SlowFilterBoard { k: 0 }),
                 &cfg,
                 &mut outputs,
-                &mut Slow(0),
+                &mut said,
                 &stop,
             )
             .unwrap();
+            outputs.record.take().unwrap().finish().unwrap();
             drop(outputs);
             let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
+            // the recording notes the timing (once), and fused with the
+            // filter it names gives the stream's rows to the byte
+            let recorded = std::fs::read_to_string(&rec).unwrap();
+            let notes: Vec<&str> = recorded.lines().filter(|l| l.starts_with('#')).collect();
+            assert_eq!(notes.len(), usize::from(board_timing), "{notes:?}");
+            assert_eq!(said.0.len(), usize::from(board_timing), "{:?}", said.0);
+            let filter = match notes.first() {
+                Some(n) => {
+                    let spec = n.split("--filter ").nth(1).unwrap().split('`').next();
+                    FilterConfig::from_spec(crate::fusion::parse_spec(spec.unwrap()).unwrap())
+                }
+                None => FilterConfig::new(FilterKind::Dynamic),
+            };
+            let mut reader =
+                crate::io::ImuCsvReader::from_path(&rec, &crate::io::ReadOptions::default())
+                    .unwrap();
+            let mut fused = Vec::new();
+            crate::fusion::fuse(
+                &mut reader,
+                &mut fused,
+                &filter,
+                &crate::fusion::FuseOptions::default(),
+            )
+            .unwrap();
+            assert_eq!(String::from_utf8(fused).unwrap(), text, "{board_timing}");
             let last = text.lines().last().unwrap().to_string();
             let cols: Vec<&str> = last.split(',').collect();
             let t: f64 = cols[0].parse().unwrap();

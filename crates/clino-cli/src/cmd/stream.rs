@@ -333,6 +333,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // the sensor's timing, where the user did not give it: an MPU6050 on
     // I²C from the flags here, a board from its CONFIG (clino::stream)
     let timing_given = gives(&a.filter, "sensor_delay_periods") || gives(&a.filter, "gyro_lag_s");
+    let mut timing_note = None;
     if a.i2c.is_some()
         && !timing_given
         && let clino::fusion::FilterSpec::Dynamic(p) = &mut filter.spec
@@ -340,14 +341,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let o = i2c_options(&a)?;
         let t = clino::stream::SensorTiming::mpu6050(&o.sensor_config(), false, o.rate_hz);
         t.apply(p);
-        eprintln!(
-            "clino stream: timing from the sensor's settings ({} Hz filter, read at {} Hz): the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer",
-            o.dlpf.accel_bandwidth_hz(),
+        let text = t.notice(
+            &format!(
+                "the sensor's settings ({} Hz filter, read at {} Hz)",
+                o.dlpf.accel_bandwidth_hz(),
+                o.rate_hz
+            ),
             o.rate_hz,
-            t.sensor_delay_periods / o.rate_hz * 1e3,
-            t.sensor_delay_periods,
-            t.gyro_lag_s * 1e3
         );
+        eprintln!("clino stream: {text}");
+        timing_note = Some(text);
     }
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
@@ -367,7 +370,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     if let Some(p) = &a.record {
         let inputs: Vec<&Path> = a.replay.iter().map(|p| p.as_path()).collect();
-        outputs.record = Some(Recorder::create(p, &inputs)?);
+        let mut r = Recorder::create(p, &inputs)?;
+        if let Some(text) = &timing_note {
+            r.comment(&format!("clino stream: {text}"))?;
+        }
+        outputs.record = Some(r);
     }
     let mut term = Terminal {
         view: !a.csv && std::io::stdout().is_terminal(),

@@ -77,6 +77,13 @@ impl<W: Write> CsvLineWriter<W> {
         Ok(())
     }
 
+    /// Write a comment line, `# text` (readers skip it; a newline in `text`
+    /// becomes a space). Between rows only: the row being built is kept.
+    pub fn comment(&mut self, text: &str) -> std::io::Result<()> {
+        let line = text.replace(['\n', '\r'], " ");
+        writeln!(self.out, "# {line}")
+    }
+
     /// Flush what has been written so far to the sink.
     pub fn flush(&mut self) -> std::io::Result<()> {
         self.out.flush()
