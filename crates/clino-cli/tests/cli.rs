@@ -704,3 +704,74 @@ fn the_sensor_range_counts_clipped_readings_and_is_checked() {
         assert!(stderr(&o).contains(flag), "{}", stderr(&o));
     }
 }
+
+/// A recording of `clino stream` that notes its sensor's timing: fused as
+/// it is, the note is taken (and said); a filter that names the timing
+/// overrides it, and a note after the first sample is not taken.
+#[test]
+fn fuse_takes_the_sensor_timing_a_recording_notes() {
+    let dir = scratch("timing-note");
+    // 100 Hz: at rest for 3 s, then turning about x at 1 rad/s
+    let mut rows =
+        String::from("t_s,gyr_x_rad_s,gyr_y_rad_s,gyr_z_rad_s,acc_x_m_s2,acc_y_m_s2,acc_z_m_s2\n");
+    for k in 0..600 {
+        let t = k as f64 * 0.01;
+        let (w, a) = if t < 3.0 { (0.0, 0.0) } else { (1.0, t - 3.0) };
+        rows.push_str(&format!(
+            "{t},{w},0,0,0,{},{}\n",
+            9.80665 * a.sin(),
+            9.80665 * a.cos()
+        ));
+    }
+    let (head, body) = rows.split_once('\n').unwrap();
+    let note = "# clino.sensor_timing sensor_delay_periods=3,gyro_lag_s=0";
+    let noted = write(dir.path(), "noted.csv", &format!("{head}\n{note}\n{body}"));
+    let plain = write(dir.path(), "plain.csv", &rows);
+    let late = write(
+        dir.path(),
+        "late.csv",
+        &format!(
+            "{head}\n{}{note}\n{}",
+            &body[..body.find('\n').unwrap() + 1],
+            &body[body.find('\n').unwrap() + 1..]
+        ),
+    );
+    let fused = |file: &str, extra: &[&str]| {
+        let mut args = vec!["fuse", file];
+        args.extend_from_slice(extra);
+        let o = clino(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let said = stderr(&o);
+        (String::from_utf8(o.stdout).unwrap(), said)
+    };
+    let (taken, said) = fused(&noted, &[]);
+    assert!(
+        said.contains("sensor_delay_periods=3,gyro_lag_s=0"),
+        "{said}"
+    );
+    let (as_given, _) = fused(&plain, &["-f", "dynamic:sensor_delay=3"]);
+    assert_eq!(taken, as_given, "the note is the filter's timing");
+    let (default, said) = fused(&plain, &[]);
+    assert_ne!(taken, default);
+    assert!(!said.contains("sensor_delay_periods="), "{said}");
+    // named by the user: the note is not taken
+    let (named, said) = fused(&noted, &["-f", "dynamic:sensor_delay=0.5"]);
+    assert_eq!(named, default);
+    assert!(!said.contains("as the recording notes it"), "{said}");
+    // after the first sample: not taken, and said
+    let (after, said) = fused(&late, &[]);
+    assert_eq!(after, default);
+    assert!(
+        said.contains("after the first sample") && said.contains("was not taken"),
+        "{said}"
+    );
+    // a note that does not read: not taken, and said
+    let bad = write(
+        dir.path(),
+        "bad.csv",
+        &format!("# clino.sensor_timing sensor_delay_periods=abc\n{rows}"),
+    );
+    let (unread, said) = fused(&bad, &[]);
+    assert_eq!(unread, default);
+    assert!(said.contains("does not read as"), "{said}");
+}

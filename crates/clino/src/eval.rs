@@ -116,6 +116,10 @@ pub struct RecordingScore {
     /// How far the sensor's samples lag the reference ([`DelayEstimator`];
     /// `null` when the recording does not turn enough to time it).
     pub sensor_delay: Option<SensorDelay>,
+    /// The sensor's timing the recording notes (a recording of `clino
+    /// stream`) and the dynamic filters took
+    /// ([`FilterConfig::for_recording`]); `null` when none was taken.
+    pub sensor_timing: Option<crate::stream::SensorTiming>,
 }
 
 /// How far a sensor's samples lag a reference orientation, from the
@@ -343,6 +347,19 @@ pub fn score_reader<R: Read>(
             .at_column(col));
         }
     }
+    // the recording's notes (a sensor's timing) are complete once its first
+    // row is read ([`FilterConfig::for_recording`])
+    let mut first = reader.next_row()?;
+    let mut sensor_timing = None;
+    let configs: Vec<FilterConfig> = configs
+        .iter()
+        .map(|c| {
+            let (c, t) = c.for_recording(reader.notes().0);
+            sensor_timing = sensor_timing.or(t);
+            c
+        })
+        .collect();
+    let configs = &configs[..];
     // Real-time filters stream; offline ones need the recording in memory,
     // which is kept only when one of them is asked for.
     let mut pipes = configs
@@ -354,7 +371,10 @@ pub fn score_reader<R: Read>(
     let mut samples = Vec::new();
     let mut refs = Vec::new();
     let mut delay = DelayEstimator::default();
-    while let Some(row) = reader.next_row()? {
+    while let Some(row) = match first.take() {
+        Some(row) => Some(row),
+        None => reader.next_row()?,
+    } {
         delay.push(&row.sample, row.ref_q);
         let scored = row.movement == Some(true);
         for ((p, acc), c) in pipes.iter_mut().zip(rms.iter_mut()).zip(configs) {
@@ -399,6 +419,7 @@ pub fn score_reader<R: Read>(
             })
             .collect(),
         sensor_delay: delay.finish(),
+        sensor_timing,
     })
 }
 
@@ -681,6 +702,7 @@ mod tests {
             rows: 5,
             scores: vec![score(nf)],
             sensor_delay: None,
+            sensor_timing: None,
         };
         let cfg = [FilterConfig::new(crate::fusion::FilterKind::Mahony)];
         let t = EvalTable::new(&cfg, vec![rec(0), rec(3)]);

@@ -159,6 +159,30 @@ pub fn parse_spec(text: &str) -> Result<FilterSpec> {
     Ok(spec)
 }
 
+/// True when a filter's text (one specification or a list, as
+/// [`parse_spec_list`] takes it) names the dynamic filter's timing,
+/// `sensor_delay_periods` or `gyro_lag_s` (in full or without the unit):
+/// then a recording's own note of it is not taken
+/// ([`FilterConfig::timing_given`]).
+///
+/// ```
+/// use clino::fusion::names_timing;
+/// assert!(names_timing("dynamic:bandwidth=0.2,sensor_delay=1"));
+/// assert!(names_timing("mahony,dynamic:gyro_lag_s=0.001"));
+/// assert!(!names_timing("dynamic:bandwidth=0.2,mahony:kp=1"));
+/// ```
+pub fn names_timing(text: &str) -> bool {
+    let dynamic = FilterSpec::default_for(FilterKind::Dynamic);
+    text.split(',').any(|item| {
+        let kv = item.rsplit(':').next().unwrap_or(item);
+        kv.split_once('=').is_some_and(|(k, _)| {
+            dynamic
+                .param(k)
+                .is_some_and(|p| matches!(p.key, "sensor_delay_periods" | "gyro_lag_s"))
+        })
+    })
+}
+
 /// Parse a list of specifications separated by commas, or `all` (every
 /// filter at its defaults): `dynamic:bandwidth=0.2,rest_time=2,mahony`. A
 /// `KEY=VALUE` item belongs to the filter before it. Repeats are kept once.
@@ -310,6 +334,11 @@ pub struct FilterConfig {
     /// give their own steps to the bit. `false` (`--stamps as-given`): the
     /// stamps' steps as they are, in real time and offline.
     pub sample_clock: bool,
+    /// The user named the dynamic filter's timing (`sensor_delay_periods`
+    /// or `gyro_lag_s`): a recording's own note of the sensor's timing
+    /// ([`crate::stream::Recorder::note_timing`]) is then not taken.
+    /// Default false: [`FilterConfig::for_recording`] takes the note.
+    pub timing_given: bool,
 }
 
 impl FilterConfig {
@@ -328,6 +357,39 @@ impl FilterConfig {
             offline: false,
             sensor_range: SensorRange::default(),
             sample_clock: true,
+            timing_given: false,
+        }
+    }
+
+    /// The same filter, told whether the user named its timing
+    /// ([`FilterConfig::timing_given`]).
+    pub fn with_timing_given(mut self, given: bool) -> Self {
+        self.timing_given = given;
+        self
+    }
+
+    /// This filter as it runs on a recording whose notes (before its first
+    /// data row: [`crate::io::ImuCsvReader::notes`]) are `notes`: a dynamic
+    /// filter takes the sensor's timing a recording of `clino stream`
+    /// carries ([`crate::stream::SensorTiming::from_notes`]) unless the user
+    /// named it; and that timing, when taken.
+    pub fn for_recording(
+        &self,
+        notes: &[String],
+    ) -> (FilterConfig, Option<crate::stream::SensorTiming>) {
+        let mut c = *self;
+        if self.timing_given {
+            return (c, None);
+        }
+        let FilterSpec::Dynamic(p) = &mut c.spec else {
+            return (c, None);
+        };
+        match crate::stream::SensorTiming::from_notes(notes) {
+            Some(t) => {
+                t.apply(p);
+                (c, Some(t))
+            }
+            None => (c, None),
         }
     }
 
@@ -700,6 +762,15 @@ pub struct FuseReport {
     /// ([`FilterConfig::sample_clock`]; their number is
     /// [`Counts::retimed`]).
     pub stamp_jitter_s: Option<f64>,
+    /// The sensor's timing the recording carried and the dynamic filter
+    /// took ([`FilterConfig::for_recording`]).
+    pub timing: Option<crate::stream::SensorTiming>,
+    /// A note came after the first data row, and was not taken (a board
+    /// reset to another setting mid-recording).
+    pub late_note: bool,
+    /// A timing note before the first data row did not read as one
+    /// ([`crate::stream::SensorTiming::from_notes`]) and was not taken.
+    pub bad_timing_note: bool,
 }
 
 /// Each triad's largest reading (the largest magnitude of its three axes)
@@ -980,6 +1051,14 @@ pub fn fuse_into<R: Read, S: RowSink>(
     opts: &FuseOptions,
     mut trace: Option<&mut TiltTrace>,
 ) -> Result<FuseReport> {
+    // the recording's notes are complete once its first row is read
+    let mut first = reader.next_row()?;
+    let (config, timing) = config.for_recording(reader.notes().0);
+    let config = &config;
+    let mut next = |reader: &mut ImuCsvReader<R>| match first.take() {
+        Some(row) => Ok(Some(row)),
+        None => reader.next_row(),
+    };
     let mut pipeline = config.pipeline()?;
     let io_err = |e: std::io::Error| Error::from(e).in_file("output");
     // the calibration file's range checks name the row; the model is applied by the pipeline
@@ -998,7 +1077,14 @@ pub fn fuse_into<R: Read, S: RowSink>(
         }
         Ok(())
     };
-    let mut report = FuseReport::default();
+    let mut report = FuseReport {
+        timing,
+        bad_timing_note: timing.is_none()
+            && !config.timing_given
+            && config.spec.kind() == FilterKind::Dynamic
+            && crate::stream::SensorTiming::is_noted(reader.notes().0),
+        ..FuseReport::default()
+    };
     let mut emit = |out: &mut S, row: &ImuRow, q: Option<Attitude>, st: Status| {
         out.f64(row.sample.t_s);
         write_attitude(out, q, row.sample.t_s, trace.as_deref_mut());
@@ -1024,7 +1110,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
     if config.offline {
         // the smoother needs the whole recording: it is held in compact columns
         let mut held = HeldRecording::new(config.sample_clock);
-        while let Some(row) = reader.next_row()? {
+        while let Some(row) = next(reader)? {
             check(reader, &row)?;
             read(&mut rows);
             let s = match opts.calibration {
@@ -1065,9 +1151,10 @@ pub fn fuse_into<R: Read, S: RowSink>(
             };
             emit(out, &row, o.attitude, o.status).map_err(io_err)?;
         }
+        report.late_note = reader.notes().1;
         return Ok(report);
     }
-    while let Some(row) = reader.next_row()? {
+    while let Some(row) = next(reader)? {
         check(reader, &row)?;
         read(&mut rows);
         let o = pipeline.update(&row.sample);
@@ -1085,6 +1172,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
         emit(out, &row, o.attitude, o.status).map_err(io_err)?;
     }
     report.take_real_time(&pipeline);
+    report.late_note = reader.notes().1;
     Ok(report)
 }
 

@@ -116,6 +116,27 @@ impl Recorder {
         }
     }
 
+    /// Note the sensor's timing for the recording's readers: `clino fuse`
+    /// and `clino eval` take it where the filter does not name it
+    /// ([`crate::fusion::FilterConfig::timing_given`]). A CSV recording
+    /// carries it as a note line (`# clino.sensor_timing …`), read where it
+    /// comes before the first sample; a Parquet one as its key-value
+    /// metadata, whose first value is read: a timing that changes after the
+    /// first sample (a board reset to another setting) is the stream's
+    /// alone.
+    pub fn note_timing(&mut self, t: &SensorTiming) -> Result<()> {
+        let text = t.note_text();
+        match &mut self.sink {
+            RecordSink::Csv(w) => w
+                .comment(&format!("clino.{} {text}", SensorTiming::NOTE))
+                .map_err(|e| Error::from(e).in_file(&self.path)),
+            RecordSink::Parquet(w) => {
+                w.note(SensorTiming::NOTE, &text);
+                Ok(())
+            }
+        }
+    }
+
     /// Push what is buffered to the temporary file.
     pub fn flush(&mut self) -> Result<()> {
         self.last_flush = Instant::now();
@@ -185,7 +206,7 @@ pub struct StreamOutputs {
 /// the gyro 0.98 ms behind. Each millisecond missed is a tilt error of
 /// ω·1 ms while turning (0.11° at 2 rad/s), and a lag missed is left as
 /// tilt at the stop (`generalise --only lag`, BENCHMARKS.md).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct SensorTiming {
     /// The gyro's delay behind the time stamps, sample periods.
     pub sensor_delay_periods: f64,
@@ -242,12 +263,62 @@ impl SensorTiming {
     /// timing from the sensor's settings (`source`).
     pub fn notice(&self, source: &str, rate_hz: f64) -> String {
         format!(
-            "timing from {source}: the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer; `clino fuse --filter {}` fuses a recording of this stream alike",
+            "timing from {source}: the gyro {:.2} ms behind the time stamps ({:.2} periods), {:+.2} ms behind the accelerometer; a recording of this stream notes it for `clino fuse`, and `--filter {}` gives it to any other",
             self.sensor_delay_periods / rate_hz * 1e3,
             self.sensor_delay_periods,
             self.gyro_lag_s * 1e3,
             self.filter_text()
         )
+    }
+
+    /// The name of the note that carries a timing in a recording
+    /// ([`crate::io::NOTE_PREFIX`]; Parquet: the key-value metadata
+    /// `clino.sensor_timing`).
+    pub const NOTE: &'static str = "sensor_timing";
+
+    /// The note's text: [`SensorTiming::filter_text`]'s parameters,
+    /// `sensor_delay_periods=…,gyro_lag_s=…`, exact.
+    pub fn note_text(&self) -> String {
+        format!(
+            "sensor_delay_periods={},gyro_lag_s={}",
+            self.sensor_delay_periods, self.gyro_lag_s
+        )
+    }
+
+    /// The timing a recording's notes carry ([`crate::io::ImuCsvReader::notes`]:
+    /// `clino.sensor_timing TEXT`), the first that reads as
+    /// [`SensorTiming::note_text`] writes it; `None` if none does.
+    pub fn from_notes(notes: &[String]) -> Option<Self> {
+        let prefix = format!("clino.{} ", Self::NOTE);
+        notes.iter().find_map(|n| {
+            let text = n.strip_prefix(&prefix)?;
+            let (mut delay, mut lag) = (None, None);
+            for kv in text.trim().split(',') {
+                let (k, v) = kv.split_once('=')?;
+                let v: f64 = v.trim().parse().ok().filter(|v: &f64| v.is_finite())?;
+                match k.trim() {
+                    "sensor_delay_periods" => delay = Some(v),
+                    "gyro_lag_s" => lag = Some(v),
+                    _ => return None,
+                }
+            }
+            let t = Self {
+                sensor_delay_periods: delay?,
+                gyro_lag_s: lag?,
+            };
+            let mut p = DynamicParams::default();
+            t.apply(&mut p);
+            clino_core::filter::FilterSpec::Dynamic(p)
+                .validate()
+                .is_ok()
+                .then_some(t)
+        })
+    }
+
+    /// True when `notes` hold a timing note at all (read or not).
+    pub fn is_noted(notes: &[String]) -> bool {
+        let prefix = format!("clino.{} ", Self::NOTE);
+        notes.iter().any(|n| n.starts_with(&prefix))
     }
 
     /// These values in the dynamic filter's parameters.
@@ -625,6 +696,7 @@ impl Consumer<'_, '_> {
         obs.message(&text);
         if let Some(r) = self.outputs.record.as_mut() {
             r.comment(&format!("clino stream: {text}"))?;
+            r.note_timing(&t)?;
         }
         Ok(())
     }
@@ -1078,6 +1150,25 @@ mod tests {
         assert!(SensorTiming::of_board(&board(1, 100, 7)).is_none());
         assert!(SensorTiming::of_board(&board(1, 0, 3)).is_none());
         assert!(SensorTiming::of_board(&board(2, 300, 3)).is_none());
+        // a note round trip, exact; malformed or out-of-range notes give none
+        let t = SensorTiming::of_board(&board(1, 1000, 0)).unwrap();
+        let note = format!("clino.{} {}", SensorTiming::NOTE, t.note_text());
+        assert_eq!(
+            SensorTiming::from_notes(&["clino.other x".into(), note]),
+            Some(t)
+        );
+        for bad in [
+            "sensor_delay_periods=1",
+            "sensor_delay_periods=1,gyro_lag_s=x",
+            "sensor_delay_periods=1,gyro_lag_s=NaN",
+            "sensor_delay_periods=1,gyro_lag_s=0.001,bandwidth=2",
+            "sensor_delay_periods=1000,gyro_lag_s=0",
+            "sensor_delay_periods=1,gyro_lag_s=0.5",
+        ] {
+            let n = format!("clino.{} {bad}", SensorTiming::NOTE);
+            assert_eq!(SensorTiming::from_notes(&[n]), None, "{bad}");
+        }
+        let t = SensorTiming::of_board(&board(2, 100, 3)).unwrap();
         // applied: both fields, nothing else
         let mut p = DynamicParams::default();
         t.apply(&mut p);
@@ -1125,6 +1216,7 @@ mod tests {
             };
             let out = Shared::default();
             let rec = tmp.path().join(format!("rec-{board_timing}.csv"));
+            let pq = tmp.path().join(format!("rec-{board_timing}.parquet"));
             let mut outputs = StreamOutputs {
                 csv: Some(FusedCsv::new(Box::new(out.clone()) as Box<dyn Write + Send>).unwrap()),
                 record: Some(Recorder::create(&rec, &[]).unwrap()),
@@ -1141,31 +1233,58 @@ mod tests {
             outputs.record.take().unwrap().finish().unwrap();
             drop(outputs);
             let text = String::from_utf8(out.0.lock().unwrap().clone()).unwrap();
-            // the recording notes the timing (once), and fused with the
-            // filter it names gives the stream's rows to the byte
-            let recorded = std::fs::read_to_string(&rec).unwrap();
-            let notes: Vec<&str> = recorded.lines().filter(|l| l.starts_with('#')).collect();
-            assert_eq!(notes.len(), usize::from(board_timing), "{notes:?}");
-            assert_eq!(said.0.len(), usize::from(board_timing), "{:?}", said.0);
-            let filter = match notes.first() {
-                Some(n) => {
-                    let spec = n.split("--filter ").nth(1).unwrap().split('`').next();
-                    FilterConfig::from_spec(crate::fusion::parse_spec(spec.unwrap()).unwrap())
-                }
-                None => FilterConfig::new(FilterKind::Dynamic),
+            // the same again into a Parquet recording
+            let mut outputs = StreamOutputs {
+                record: Some(Recorder::create(&pq, &[]).unwrap()),
+                ..Default::default()
             };
-            let mut reader =
-                crate::io::ImuCsvReader::from_path(&rec, &crate::io::ReadOptions::default())
-                    .unwrap();
-            let mut fused = Vec::new();
-            crate::fusion::fuse(
-                &mut reader,
-                &mut fused,
-                &filter,
-                &crate::fusion::FuseOptions::default(),
+            run(
+                Box::new(SlowFilterBoard { k: 0 }),
+                &cfg,
+                &mut outputs,
+                &mut Said(Vec::new()),
+                &stop,
             )
             .unwrap();
-            assert_eq!(String::from_utf8(fused).unwrap(), text, "{board_timing}");
+            outputs.record.take().unwrap().finish().unwrap();
+            // the CSV recording says so (a comment, and the note), once
+            let recorded = std::fs::read_to_string(&rec).unwrap();
+            let notes: Vec<&str> = recorded.lines().filter(|l| l.starts_with('#')).collect();
+            assert_eq!(notes.len(), 2 * usize::from(board_timing), "{notes:?}");
+            assert_eq!(said.0.len(), usize::from(board_timing), "{:?}", said.0);
+            // fused as they are, both recordings give the stream's rows to
+            // the byte; with the timing named by the user, the note is not
+            // taken (and the default half period gives other rows)
+            let fuse = |path: &std::path::Path, filter: &FilterConfig| {
+                let mut reader =
+                    crate::io::ImuCsvReader::from_path(path, &crate::io::ReadOptions::default())
+                        .unwrap();
+                let mut fused = Vec::new();
+                let rep = crate::fusion::fuse(
+                    &mut reader,
+                    &mut fused,
+                    filter,
+                    &crate::fusion::FuseOptions::default(),
+                )
+                .unwrap();
+                (String::from_utf8(fused).unwrap(), rep.timing.is_some())
+            };
+            let plain = FilterConfig::new(FilterKind::Dynamic);
+            let first_difference = |a: &str| {
+                a.lines()
+                    .zip(text.lines())
+                    .position(|(x, y)| x != y)
+                    .map(|k| (k, a.lines().nth(k).unwrap().to_string()))
+            };
+            for path in [&rec, &pq] {
+                let (rows, taken) = fuse(path, &plain);
+                assert_eq!(taken, board_timing, "{path:?}");
+                assert_eq!(first_difference(&rows), None, "{path:?}");
+                assert_eq!(rows.len(), text.len(), "{path:?}");
+                let (rows, taken) = fuse(path, &plain.with_timing_given(true));
+                assert!(!taken);
+                assert_eq!(first_difference(&rows).is_none(), !board_timing, "{path:?}");
+            }
             let last = text.lines().last().unwrap().to_string();
             let cols: Vec<&str> = last.split(',').collect();
             let t: f64 = cols[0].parse().unwrap();

@@ -55,6 +55,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .map(|c| {
             c.with_sensor_range(range)
                 .with_sample_clock(a.stages.stamps.recover())
+                .with_timing_given(clino::fusion::names_timing(&a.filter))
         })
         .collect();
     let bar = indicatif::ProgressBar::new(0);
@@ -73,6 +74,16 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     } else {
         println!("inclination RMSE, degrees (BROAD scoring: movement = 1, finite reference)");
         print!("{}", table.to_text());
+        let noted = table
+            .recordings
+            .iter()
+            .filter(|r| r.sensor_timing.is_some())
+            .count();
+        if noted > 0 {
+            println!(
+                "({noted} recording(s) noted their sensor's timing, and the dynamic filter took it: `--json` has it per recording)"
+            );
+        }
         if a.delay {
             println!(
                 "\nthe sensor's delay behind the reference (its gyro's rate against the reference's; n/a: too little turning to time)"

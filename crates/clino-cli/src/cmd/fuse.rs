@@ -257,6 +257,24 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(g) = gaps {
         eprintln!("clino fuse: warning: {}: {g}", a.input.display());
     }
+    if let Some(t) = &rep.timing {
+        eprintln!(
+            "clino fuse: the sensor's timing as the recording notes it (clino stream): {} (a --filter that names sensor_delay_periods or gyro_lag_s overrides it)",
+            t.note_text()
+        );
+    }
+    if rep.bad_timing_note {
+        eprintln!(
+            "clino fuse: warning: {}: its clino.sensor_timing note does not read as sensor_delay_periods=…,gyro_lag_s=… (numbers in the filter's ranges) and was not taken",
+            a.input.display()
+        );
+    }
+    if rep.late_note {
+        eprintln!(
+            "clino fuse: warning: {}: a clino.* note after the first sample row (a sensor reset to other settings mid-recording?) was not taken",
+            a.input.display()
+        );
+    }
     if let (Some(path), Some(trace)) = (&a.plot, &trace) {
         let title = format!("{} — {}", a.input.display(), config.label());
         trace.plot(path, &title)?;

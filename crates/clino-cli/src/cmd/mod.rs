@@ -189,7 +189,8 @@ pub fn filter_config(
         .with_lever_auto(auto)
         .with_offline(stages.offline)
         .with_sensor_range(stages.sensor_range()?)
-        .with_sample_clock(stages.stamps.recover());
+        .with_sample_clock(stages.stamps.recover())
+        .with_timing_given(clino::fusion::names_timing(filter));
     config.validate()?;
     Ok(config)
 }

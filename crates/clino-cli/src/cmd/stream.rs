@@ -235,20 +235,6 @@ fn i2c_options(a: &Args) -> anyhow::Result<clino::io::source::I2cOptions> {
     )?)
 }
 
-/// True when the filter's text (`NAME:KEY=VALUE,…`) gives the parameter
-/// `key` (in full or without its unit, as [`clino::fusion::parse_spec`]
-/// takes it).
-fn gives(filter: &str, key: &str) -> bool {
-    let Ok(spec) = clino::fusion::parse_spec(filter) else {
-        return false;
-    };
-    filter.split_once(':').is_some_and(|(_, rest)| {
-        rest.split(',')
-            .filter_map(|kv| kv.split_once('='))
-            .any(|(k, _)| spec.param(k).is_some_and(|p| p.key == key))
-    })
-}
-
 /// The likely cause of an error opening an I²C bus.
 #[cfg(target_os = "linux")]
 fn i2c_open_hint(e: &linux_embedded_hal::i2cdev::linux::LinuxI2CError) -> &'static str {
@@ -332,7 +318,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     // the sensor's timing, where the user did not give it: an MPU6050 on
     // I²C from the flags here, a board from its CONFIG (clino::stream)
-    let timing_given = gives(&a.filter, "sensor_delay_periods") || gives(&a.filter, "gyro_lag_s");
+    let timing_given = clino::fusion::names_timing(&a.filter);
     let mut timing_note = None;
     if a.i2c.is_some()
         && !timing_given
@@ -350,7 +336,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             o.rate_hz,
         );
         eprintln!("clino stream: {text}");
-        timing_note = Some(text);
+        timing_note = Some((t, text));
     }
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
@@ -371,8 +357,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(p) = &a.record {
         let inputs: Vec<&Path> = a.replay.iter().map(|p| p.as_path()).collect();
         let mut r = Recorder::create(p, &inputs)?;
-        if let Some(text) = &timing_note {
+        if let Some((t, text)) = &timing_note {
             r.comment(&format!("clino stream: {text}"))?;
+            r.note_timing(t)?;
         }
         outputs.record = Some(r);
     }
@@ -400,25 +387,4 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("  {line}");
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::gives;
-
-    #[test]
-    fn the_timing_counts_as_given_where_the_filter_names_it() {
-        assert!(gives(
-            "dynamic:sensor_delay_periods=1",
-            "sensor_delay_periods"
-        ));
-        assert!(gives(
-            "dynamic: bandwidth=0.2, sensor_delay=1",
-            "sensor_delay_periods"
-        ));
-        assert!(gives("dynamic:gyro_lag=0.001", "gyro_lag_s"));
-        assert!(!gives("dynamic", "sensor_delay_periods"));
-        assert!(!gives("dynamic:bandwidth=0.2", "gyro_lag_s"));
-        assert!(!gives("mahony:kp=1", "sensor_delay_periods"));
-    }
 }

@@ -377,6 +377,13 @@ impl<R: Read> ImuCsvReader<R> {
         self.table.file()
     }
 
+    /// The recording's notes before its first data row, and whether one
+    /// came after it ([`TableReader::notes`]); complete once the first row
+    /// has been read.
+    pub fn notes(&self) -> (&[String], bool) {
+        self.table.notes()
+    }
+
     /// The gaps in time seen so far ([`TimeGaps`]).
     pub fn gaps(&self) -> &TimeGaps {
         &self.gaps

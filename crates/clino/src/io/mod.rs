@@ -8,7 +8,10 @@
 //!   parsed; every row has the header's number of fields; a numeric cell is a
 //!   number, `nan`/`inf`, or empty (NaN); every error names the file, the
 //!   1-based line (comments counted; a Parquet row's line is its number plus
-//!   one) and the column;
+//!   one) and the column; a comment line `# clino.NAME TEXT` before the
+//!   first data row is a note for the readers ([`TableReader::notes`]; in
+//!   Parquet, key-value metadata `clino.NAME`): a recording of `clino
+//!   stream` notes its sensor's timing so;
 //! * [`ImuCsvReader`] streams an IMU recording (CSV or Parquet), one
 //!   [`ImuRow`] at a time, in constant memory; units by column name
 //!   (`_rad_s`, `_deg_s`, `_m_s2`, `_g`) or, for bare names, by flag;
@@ -41,4 +44,4 @@ pub use csv_in::{
 pub use csv_out::{CsvLineWriter, RowSink};
 pub use parquet::{ParquetRowWriter, is_parquet};
 pub(crate) use table::parse_f64 as parse_cell;
-pub use table::{TableReader, quote_cell};
+pub use table::{NOTE_PREFIX, TableReader, quote_cell};

@@ -52,6 +52,8 @@ enum Column {
 
 /// The rows of a Parquet file, one row group buffered at a time.
 pub(crate) struct ParquetRows {
+    /// The file's `clino.*` key-value metadata ([`ParquetRows::notes`]).
+    notes: Vec<String>,
     path: std::path::PathBuf,
     reader: SerializedFileReader<File>,
     names: Vec<String>,
@@ -99,6 +101,18 @@ impl ParquetRows {
     pub(crate) fn open(path: &Path) -> Result<Self> {
         let f = File::open(path).map_err(|e| Error::from(e).in_file(path))?;
         let reader = SerializedFileReader::new(f).map_err(|e| pq_err(path, e))?;
+        let notes = reader
+            .metadata()
+            .file_metadata()
+            .key_value_metadata()
+            .map(|kv| {
+                kv.iter()
+                    .filter(|k| k.key.starts_with("clino."))
+                    .filter_map(|k| Some(format!("{} {}", k.key, k.value.as_deref()?)))
+                    .take(16)
+                    .collect()
+            })
+            .unwrap_or_default();
         let names = reader
             .metadata()
             .file_metadata()
@@ -108,6 +122,7 @@ impl ParquetRows {
             .map(|c| c.path().string())
             .collect::<Vec<_>>();
         Ok(Self {
+            notes,
             wanted: vec![true; names.len()],
             path: path.to_path_buf(),
             reader,
@@ -121,6 +136,11 @@ impl ParquetRows {
 
     pub(crate) fn names(&self) -> &[String] {
         &self.names
+    }
+
+    /// The file's key-value metadata named `clino.*`, as `clino.NAME VALUE`.
+    pub(crate) fn notes(&self) -> &[String] {
+        &self.notes
     }
 
     /// Decode only the columns `cols` from the next row group on (the others
@@ -331,6 +351,18 @@ impl<W: std::io::Write + Send> ParquetRowWriter<W> {
             col: 0,
             rows: 0,
         })
+    }
+
+    /// Add `value` to the file's key-value metadata as `clino.KEY` (the
+    /// Parquet form of a CSV note, [`crate::io::NOTE_PREFIX`]), written with
+    /// the footer; readers take the first of a key.
+    pub fn note(&mut self, key: &str, value: &str) {
+        if let Some(w) = self.writer.as_mut() {
+            w.append_key_value_metadata(parquet::file::metadata::KeyValue::new(
+                format!("clino.{key}"),
+                value.to_string(),
+            ));
+        }
     }
 
     /// Append a number to the current row.

@@ -36,6 +36,83 @@ struct Tracked<R> {
     head: [u8; 3],
     head_len: usize,
     started: bool,
+    notes: Notes,
+}
+
+/// The prefix of a note a recording carries for its readers, on a comment
+/// line of its own: `# clino.NAME TEXT` (a CSV recording of `clino stream`
+/// names the sensor's timing so, [`crate::stream::SensorTiming`]).
+pub const NOTE_PREFIX: &str = "# clino.";
+
+/// Longest note line kept, bytes (a longer one is an ordinary comment).
+const NOTE_MAX_BYTES: usize = 512;
+
+/// The notes seen in the bytes a [`Tracked`] hands out: comment lines that
+/// start with [`NOTE_PREFIX`], before the first data row (after at most one
+/// line of content, the header) or after it.
+#[derive(Clone, Debug, Default)]
+struct Notes {
+    /// At the start of a line.
+    line_start: bool,
+    /// The comment line being read, when it may be a note.
+    note: Option<Vec<u8>>,
+    /// The rest of the line is a comment too long to be a note.
+    long: bool,
+    /// The current line has content (not a comment, not blank).
+    content: bool,
+    /// Lines with content seen so far.
+    content_lines: u64,
+    /// Notes before the first data row, without the leading `# `.
+    leading: Vec<String>,
+    /// A note came after the first data row.
+    late: bool,
+}
+
+impl Notes {
+    fn scan(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            if self.line_start {
+                self.line_start = false;
+                if b == b'#' {
+                    self.note = Some(Vec::new());
+                }
+            }
+            match b {
+                b'\n' => {
+                    if let Some(line) = self.note.take() {
+                        self.finish_note(&line);
+                    } else if self.content {
+                        self.content_lines += 1;
+                    }
+                    self.content = false;
+                    self.long = false;
+                    self.line_start = true;
+                }
+                _ => match self.note.as_mut() {
+                    Some(line) if line.len() < NOTE_MAX_BYTES => line.push(b),
+                    Some(_) => {
+                        self.note = None;
+                        self.long = true;
+                    }
+                    None => self.content |= !self.long && !b.is_ascii_whitespace(),
+                },
+            }
+        }
+    }
+
+    fn finish_note(&mut self, line: &[u8]) {
+        let text = String::from_utf8_lossy(line);
+        let text = text.trim_end_matches('\r');
+        if let Some(rest) = text.strip_prefix(NOTE_PREFIX) {
+            if self.content_lines <= 1 {
+                if self.leading.len() < 16 {
+                    self.leading.push(format!("clino.{rest}"));
+                }
+            } else {
+                self.late = true;
+            }
+        }
+    }
 }
 
 impl<R: Read> Tracked<R> {
@@ -48,6 +125,10 @@ impl<R: Read> Tracked<R> {
             head: [0; 3],
             head_len: 0,
             started: false,
+            notes: Notes {
+                line_start: true,
+                ..Notes::default()
+            },
         }
     }
 }
@@ -77,6 +158,7 @@ impl<R: Read> Read for Tracked<R> {
             self.head_len -= n;
             self.total += n as u64;
             self.last = buf[n - 1];
+            self.notes.scan(&buf[..n]);
             return Ok(n);
         }
         let n = self.inner.read(buf)?;
@@ -87,6 +169,7 @@ impl<R: Read> Read for Tracked<R> {
         } else {
             self.total += n as u64;
             self.last = buf[n - 1];
+            self.notes.scan(&buf[..n]);
         }
         Ok(n)
     }
@@ -224,6 +307,18 @@ impl<R: Read> TableReader<R> {
                 .at_line(me.header_line));
         }
         Ok(me)
+    }
+
+    /// The recording's notes for its readers ([`NOTE_PREFIX`]: `clino.NAME
+    /// TEXT`, without the `# `) that come before its first data row, and
+    /// whether one came after it. Complete once the first data row has been
+    /// read. A Parquet file's are its key-value metadata `clino.NAME`.
+    pub fn notes(&self) -> (&[String], bool) {
+        match (&self.rdr, &self.parquet) {
+            (Some(r), _) => (&r.get_ref().notes.leading, r.get_ref().notes.late),
+            (None, Some(p)) => (p.notes(), false),
+            (None, None) => (&[], false),
+        }
     }
 
     /// The header names, in file order.
@@ -479,5 +574,62 @@ impl<R: Read> TableReader<R> {
     /// Every cell of the current record as text.
     pub fn texts(&self) -> Vec<String> {
         (0..self.header.len()).map(|i| self.text(i)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A source handing out `chunk` bytes a read.
+    struct Trickle<'a>(&'a [u8], usize);
+    impl Read for Trickle<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.1.min(buf.len()).min(self.0.len());
+            buf[..n].copy_from_slice(&self.0[..n]);
+            self.0 = &self.0[n..];
+            Ok(n)
+        }
+    }
+
+    /// The notes of `text` once its first data row is read, read `chunk`
+    /// bytes at a time; and those after the last row.
+    fn notes_of(text: &str, chunk: usize) -> (Vec<String>, bool, bool) {
+        let mut t = TableReader::new(Trickle(text.as_bytes(), chunk), "n.csv").unwrap();
+        assert!(t.next_record().unwrap());
+        let (first, _) = t.notes();
+        let first = first.to_vec();
+        while t.next_record().unwrap() {}
+        let (all, late) = t.notes();
+        (first.clone(), late, all == first)
+    }
+
+    #[test]
+    fn notes_before_the_first_row_are_read_and_later_ones_flagged() {
+        let text = "\u{feff}# clino.sensor_timing a=1\r\n# an ordinary comment\n\nt_s,x\n\
+                    # clino.other b\n0,1\n# clino.sensor_timing late\n1,2\n";
+        for chunk in [1, 2, 7, 1 << 16] {
+            let (first, late, kept) = notes_of(text, chunk);
+            assert_eq!(
+                first,
+                vec![
+                    "clino.sensor_timing a=1".to_string(),
+                    "clino.other b".into()
+                ],
+                "{chunk}"
+            );
+            assert!(late, "{chunk}");
+            assert!(kept, "a late note is not added: {chunk}");
+        }
+        // none, and a '#' that is not at the start of its line
+        let (first, late, _) = notes_of("t_s,x\n0,1 # clino.x y\n", 3);
+        assert!(first.is_empty() && !late);
+        // an over-long note line is an ordinary comment, not a note cut short
+        let long = format!("# clino.x {}\nt_s\n# clino.y z\n0\n", "y".repeat(600));
+        for chunk in [5, 1 << 16] {
+            let (first, late, _) = notes_of(&long, chunk);
+            assert_eq!(first, vec!["clino.y z".to_string()], "{chunk}");
+            assert!(!late);
+        }
     }
 }
