@@ -140,9 +140,20 @@ fn config(
         .with_lever_arm(lever_arm.map(Vec3::from))
         .with_sensor_range(range)
         .with_offline(offline)
-        .with_sample_clock(recover);
+        .with_sample_clock(recover)
+        .with_timing_given(names_timing(filter, params));
     c.validate()?;
     Ok(c)
+}
+
+/// True when the filter's text or its keyword parameters name the dynamic
+/// filter's timing: a recording's own note of it is then not taken
+/// ([`clino::fusion::names_timing`]).
+fn names_timing(filter: &str, params: &[(String, String)]) -> bool {
+    clino::fusion::names_timing(filter)
+        || params
+            .iter()
+            .any(|(k, v)| clino::fusion::names_timing(&format!("{k}={v}")))
 }
 
 fn read_options(
@@ -476,7 +487,11 @@ fn evaluate(
         let configs: Vec<FilterConfig> =
             eval::eval_configs(&specs, lever_arm.map(Vec3::from), offline)?
                 .into_iter()
-                .map(|c| c.with_sensor_range(range).with_sample_clock(recover))
+                .map(|c| {
+                    c.with_sensor_range(range)
+                        .with_sample_clock(recover)
+                        .with_timing_given(names_timing(filter, &params))
+                })
                 .collect();
         eval::evaluate(&paths, &configs, &opts, jobs, |_, _, _| {})
     });
