@@ -596,68 +596,76 @@ fn read_imu(
     g: f64,
 ) -> PyResult<Vec<(String, Py<PyAny>)>> {
     let opts = read_options(gyro_unit, accel_unit, rate, g).py(py)?;
-    let res = py.detach(|| -> clino::Result<Columns> {
-        let mut r = ImuCsvReader::from_path(&path, &opts)?;
-        let (has_ref, has_mv) = (r.has_reference(), r.has_movement());
-        let (mut t, mut gy, mut ac, mut mag, mut temp, mut rq, mut mv, mut line) = (
-            vec![],
-            vec![],
-            vec![],
-            vec![],
-            vec![],
-            vec![],
-            vec![],
-            vec![],
-        );
-        let (mut has_mag, mut has_temp) = (false, false);
-        while let Some(row) = r.next_row()? {
-            let s = &row.sample;
-            t.push(s.t_s);
-            gy.extend(s.gyr_rad_s.iter());
-            ac.extend(s.acc_m_s2.iter());
-            if let Some(m) = s.mag_ut {
-                has_mag = true;
-                mag.extend(m.iter());
+    let res = py.detach(
+        || -> clino::Result<(Columns, Option<clino::stream::SensorTiming>)> {
+            let mut r = ImuCsvReader::from_path(&path, &opts)?;
+            let (has_ref, has_mv) = (r.has_reference(), r.has_movement());
+            let (mut t, mut gy, mut ac, mut mag, mut temp, mut rq, mut mv, mut line) = (
+                vec![],
+                vec![],
+                vec![],
+                vec![],
+                vec![],
+                vec![],
+                vec![],
+                vec![],
+            );
+            let (mut has_mag, mut has_temp) = (false, false);
+            while let Some(row) = r.next_row()? {
+                let s = &row.sample;
+                t.push(s.t_s);
+                gy.extend(s.gyr_rad_s.iter());
+                ac.extend(s.acc_m_s2.iter());
+                if let Some(m) = s.mag_ut {
+                    has_mag = true;
+                    mag.extend(m.iter());
+                }
+                if let Some(x) = s.temp_c {
+                    has_temp = true;
+                    temp.push(x);
+                }
+                if has_ref {
+                    match row.ref_q {
+                        Some(q) => rq.extend([q.w, q.i, q.j, q.k]),
+                        None => rq.extend([f64::NAN; 4]),
+                    }
+                }
+                if has_mv {
+                    mv.push(row.movement.map_or(f64::NAN, |b| if b { 1.0 } else { 0.0 }));
+                }
+                line.push(row.line as f64);
             }
-            if let Some(x) = s.temp_c {
-                has_temp = true;
-                temp.push(x);
+            let n = t.len();
+            let mut cols = vec![
+                ("t_s".to_string(), t, 1),
+                ("gyr_rad_s".to_string(), gy, 3),
+                ("acc_m_s2".to_string(), ac, 3),
+            ];
+            if has_mag {
+                cols.push(("mag_ut".into(), mag, 3));
+            }
+            if has_temp {
+                cols.push(("temp_c".into(), temp, 1));
             }
             if has_ref {
-                match row.ref_q {
-                    Some(q) => rq.extend([q.w, q.i, q.j, q.k]),
-                    None => rq.extend([f64::NAN; 4]),
-                }
+                cols.push(("ref_q".into(), rq, 4));
             }
             if has_mv {
-                mv.push(row.movement.map_or(f64::NAN, |b| if b { 1.0 } else { 0.0 }));
+                cols.push(("movement".into(), mv, 1));
             }
-            line.push(row.line as f64);
-        }
-        let n = t.len();
-        let mut cols = vec![
-            ("t_s".to_string(), t, 1),
-            ("gyr_rad_s".to_string(), gy, 3),
-            ("acc_m_s2".to_string(), ac, 3),
-        ];
-        if has_mag {
-            cols.push(("mag_ut".into(), mag, 3));
-        }
-        if has_temp {
-            cols.push(("temp_c".into(), temp, 1));
-        }
-        if has_ref {
-            cols.push(("ref_q".into(), rq, 4));
-        }
-        if has_mv {
-            cols.push(("movement".into(), mv, 1));
-        }
-        cols.push(("line".into(), line, 1));
-        let _ = n;
-        Ok(cols)
-    });
-    let cols = res.py(py)?;
+            cols.push(("line".into(), line, 1));
+            let _ = n;
+            Ok((cols, clino::stream::SensorTiming::from_notes(r.notes().0)))
+        },
+    );
+    let (cols, timing) = res.py(py)?;
     let mut out = Vec::new();
+    if let Some(t) = timing {
+        let d = pyo3::types::PyDict::new(py);
+        d.set_item("sensor_delay_periods", t.sensor_delay_periods)?;
+        d.set_item("gyro_lag_s", t.gyro_lag_s)?;
+        out.push(("sensor_timing".to_string(), d.into_any().unbind()));
+    }
     for (name, v, w) in cols {
         let n = v.len() / w;
         let a = v.into_pyarray(py);

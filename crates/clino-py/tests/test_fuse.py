@@ -174,3 +174,24 @@ def test_the_gil_is_released_while_the_filter_runs():
         th.join()
     # with the GIL held the other thread could not count at all during the call
     assert during > 1000, during
+
+
+def test_a_recordings_timing_note_is_read_and_matches_the_cli(cli, tmp_path):
+    # a recording of `clino stream` notes its sensor's timing before its first
+    # sample; read_recording hands it on and `clino fuse` takes it
+    text = open(EXCERPT).read().splitlines(keepends=True)
+    head = next(i for i, line in enumerate(text) if not line.startswith("#"))
+    note = "# clino.sensor_timing sensor_delay_periods=2.5,gyro_lag_s=0.001\n"
+    path = tmp_path / "noted.csv"
+    path.write_text("".join(text[: head + 1]) + note + "".join(text[head + 1 :]))
+    rec = clino.read_recording(path)
+    assert rec["sensor_timing"] == {"sensor_delay_periods": 2.5, "gyro_lag_s": 0.001}
+    assert "sensor_timing" not in clino.read_recording(EXCERPT)
+    table = cli_fuse(cli, path, tmp_path)
+    full = clino.fuse_full(rec["gyr_rad_s"], rec["acc_m_s2"], t=rec["t_s"], **rec["sensor_timing"])
+    compare(full, table)
+    # and it is not the default's
+    plain = clino.fuse(rec["gyr_rad_s"], rec["acc_m_s2"], t=rec["t_s"])
+    assert not np.allclose(plain, full["quat"], equal_nan=True)
+    frame = clino.read_recording(path, as_frame=True)
+    assert frame.attrs["sensor_timing"] == rec["sensor_timing"]

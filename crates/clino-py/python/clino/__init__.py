@@ -522,12 +522,18 @@ def read_recording(
     ``acc_m_s2`` (N, 3), and when present ``mag_ut`` (N, 3), ``temp_c`` (N,),
     ``ref_q`` (N, 4, normalised, NaN where the reference is missing),
     ``movement`` (N,, 1/0/NaN); ``line`` (N,) is each row's line in the file.
-    With ``as_frame=True``: a pandas DataFrame with the file's column names.
+    A recording of ``clino stream`` notes its sensor's timing: then
+    ``sensor_timing`` is a dict of the dynamic filter's parameters
+    (``sensor_delay_periods``, ``gyro_lag_s``) that ``clino fuse`` takes from it,
+    to pass on: ``clino.fuse(..., **rec["sensor_timing"])``.
+    With ``as_frame=True``: a pandas DataFrame with the file's column names
+    (``sensor_timing`` in its ``attrs``).
     Errors name the file, line and column.
     """
     cols = dict(_clino.read_imu(_os.fspath(path), gyro_unit=gyro_unit, accel_unit=accel_unit, rate=rate, g=g))
     if not as_frame:
         return cols
+    timing = cols.pop("sensor_timing", None)
     pd = _pandas()
     df = {"t_s": cols["t_s"]}
     for key, names in (
@@ -542,7 +548,10 @@ def read_recording(
     for key in ("temp_c", "movement"):
         if key in cols:
             df[key] = cols[key]
-    return pd.DataFrame(df)
+    frame = pd.DataFrame(df)
+    if timing is not None:
+        frame.attrs["sensor_timing"] = timing
+    return frame
 
 
 def read_table(path: PathLike, text_columns: Iterable[str] = ("status",), as_frame: bool = False) -> Any:
