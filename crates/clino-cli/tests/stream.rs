@@ -399,10 +399,23 @@ fn replay_at_speed_equals_fuse_sample_for_sample() {
     let vec_csv = vector_dir().join("frames.csv");
     let scratch = tmp("replay");
     let dir = scratch.path();
+    // the excerpt as a recording of `clino stream` that notes its timing:
+    // replayed, as fused, the note is taken (and carried into the new recording)
+    let text = std::fs::read_to_string(&data).unwrap();
+    let head = text.lines().position(|l| !l.starts_with('#')).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines.insert(
+        head + 1,
+        "# clino.sensor_timing sensor_delay_periods=2,gyro_lag_s=0.002",
+    );
+    let noted = dir.join("noted.csv");
+    std::fs::write(&noted, lines.join("\n") + "\n").unwrap();
+    assert_ne!(fuse(&noted, "dynamic"), fuse(&data, "dynamic"));
     for (file, filter) in [
         (&data, "dynamic"),
         (&vec_csv, "mahony:kp=0.5"),
         (&data, "complementary"),
+        (&noted, "dynamic"),
     ] {
         let rec = dir.join("rec.parquet");
         let o = Command::new(env!("CARGO_BIN_EXE_clino"))

@@ -338,6 +338,33 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("clino stream: {text}");
         timing_note = Some((t, text));
     }
+    // a replayed recording's own note of its sensor's timing, as `clino
+    // fuse` takes it (not from stdin, which cannot be read twice)
+    if let (Some(path), false) = (&a.replay, timing_given)
+        && path != Path::new("-")
+        && let clino::fusion::FilterSpec::Dynamic(p) = &mut filter.spec
+    {
+        let opts = clino::io::ReadOptions {
+            imu_only: true,
+            ..a.read.options()?
+        };
+        let mut r = clino::io::ImuCsvReader::from_path(path, &opts)?;
+        r.next_row()?;
+        if let Some(t) = clino::stream::SensorTiming::from_notes(r.notes().0) {
+            t.apply(p);
+            eprintln!(
+                "clino stream: the sensor's timing as the recording notes it: {} (a --filter that names sensor_delay_periods or gyro_lag_s overrides it)",
+                t.note_text()
+            );
+            timing_note = Some((
+                t,
+                format!(
+                    "replayed with the timing its recording notes: {}",
+                    t.note_text()
+                ),
+            ));
+        }
+    }
     let calibration = match &a.calibration {
         Some(p) => Some(clino::calib::CalibrationFile::load(p)?),
         None => None,
