@@ -775,3 +775,49 @@ fn fuse_takes_the_sensor_timing_a_recording_notes() {
     assert_eq!(unread, default);
     assert!(said.contains("does not read as"), "{said}");
 }
+
+/// `clino eval` takes a recording's timing note as `clino fuse` does: in
+/// the scores and the JSON, and a note it cannot read is said.
+#[test]
+fn eval_takes_the_sensor_timing_a_recording_notes() {
+    let dir = scratch("eval-note");
+    let text = excerpt();
+    let head = text.lines().position(|l| !l.starts_with('#')).unwrap();
+    let with = |note: &str| {
+        let mut lines: Vec<&str> = text.lines().collect();
+        lines.insert(head + 1, note);
+        lines.join("\n") + "\n"
+    };
+    let noted = write(
+        dir.path(),
+        "noted.csv",
+        &with("# clino.sensor_timing sensor_delay_periods=2,gyro_lag_s=0.001"),
+    );
+    let bad = write(
+        dir.path(),
+        "bad.csv",
+        &with("# clino.sensor_timing sensor_delay_periods=2"),
+    );
+    let plain = write(dir.path(), "plain.csv", text);
+    let eval = |file: &str, filter: &str| {
+        let o = clino(&["eval", file, "-f", filter, "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v["recordings"][0].clone(), stderr(&o))
+    };
+    let (n, _) = eval(&noted, "dynamic");
+    assert_eq!(n["sensor_timing"]["gyro_lag_s"], 0.001);
+    let (given, _) = eval(&plain, "dynamic:sensor_delay=2,gyro_lag=0.001");
+    assert_eq!(n["scores"][0]["rmse_deg"], given["scores"][0]["rmse_deg"]);
+    let (p, _) = eval(&plain, "dynamic");
+    assert_ne!(n["scores"][0]["rmse_deg"], p["scores"][0]["rmse_deg"]);
+    assert!(p["sensor_timing"].is_null());
+    // named by the user: not taken; unreadable: said, not taken
+    let (named, _) = eval(&noted, "dynamic:sensor_delay=0.5");
+    assert!(named["sensor_timing"].is_null());
+    assert_eq!(named["scores"][0]["rmse_deg"], p["scores"][0]["rmse_deg"]);
+    let (b, said) = eval(&bad, "dynamic");
+    assert!(b["sensor_timing"].is_null());
+    assert_eq!(b["timing_note_not_taken"], true);
+    assert!(said.contains("was not taken"), "{said}");
+}

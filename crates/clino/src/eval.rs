@@ -120,6 +120,9 @@ pub struct RecordingScore {
     /// stream`) and the dynamic filters took
     /// ([`FilterConfig::for_recording`]); `null` when none was taken.
     pub sensor_timing: Option<crate::stream::SensorTiming>,
+    /// A timing note a dynamic filter was to take did not read as one, or
+    /// one came after the first data row: not taken (as `clino fuse` says).
+    pub timing_note_not_taken: bool,
 }
 
 /// How far a sensor's samples lag a reference orientation, from the
@@ -360,6 +363,9 @@ pub fn score_reader<R: Read>(
         })
         .collect();
     let configs = &configs[..];
+    let unread = sensor_timing.is_none()
+        && configs.iter().any(FilterConfig::takes_timing_note)
+        && crate::stream::SensorTiming::is_noted(reader.notes().0);
     // Real-time filters stream; offline ones need the recording in memory,
     // which is kept only when one of them is asked for.
     let mut pipes = configs
@@ -420,6 +426,7 @@ pub fn score_reader<R: Read>(
             .collect(),
         sensor_delay: delay.finish(),
         sensor_timing,
+        timing_note_not_taken: unread || reader.notes().1,
     })
 }
 
@@ -703,6 +710,7 @@ mod tests {
             scores: vec![score(nf)],
             sensor_delay: None,
             sensor_timing: None,
+            timing_note_not_taken: false,
         };
         let cfg = [FilterConfig::new(crate::fusion::FilterKind::Mahony)];
         let t = EvalTable::new(&cfg, vec![rec(0), rec(3)]);

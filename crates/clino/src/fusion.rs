@@ -368,6 +368,12 @@ impl FilterConfig {
         self
     }
 
+    /// True when a recording's note of its sensor's timing is this filter's
+    /// to take: a dynamic filter whose timing the user did not name.
+    pub fn takes_timing_note(&self) -> bool {
+        !self.timing_given && self.spec.kind() == FilterKind::Dynamic
+    }
+
     /// This filter as it runs on a recording whose notes (before its first
     /// data row: [`crate::io::ImuCsvReader::notes`]) are `notes`: a dynamic
     /// filter takes the sensor's timing a recording of `clino stream`
@@ -378,7 +384,7 @@ impl FilterConfig {
         notes: &[String],
     ) -> (FilterConfig, Option<crate::stream::SensorTiming>) {
         let mut c = *self;
-        if self.timing_given {
+        if !self.takes_timing_note() {
             return (c, None);
         }
         let FilterSpec::Dynamic(p) = &mut c.spec else {
@@ -1080,8 +1086,7 @@ pub fn fuse_into<R: Read, S: RowSink>(
     let mut report = FuseReport {
         timing,
         bad_timing_note: timing.is_none()
-            && !config.timing_given
-            && config.spec.kind() == FilterKind::Dynamic
+            && config.takes_timing_note()
             && crate::stream::SensorTiming::is_noted(reader.notes().0),
         ..FuseReport::default()
     };

@@ -535,8 +535,9 @@ pub fn smooth_in_place(
 /// A gyro behind its accelerometer ([`DynamicParams::gyro_lag_s`]) made
 /// up before anything else: the specific force read at the gyro's
 /// instants, each sample the one `gyro_lag_s` earlier in the record
-/// (linear between the two samples around that time, the nearer of them
-/// where the other is not finite, the first sample's before the start; a
+/// ([`read_at`]: linear between the two samples around that time, the
+/// nearer of them where the other is one the filter refuses, the first
+/// sample's before the start; a sample it refuses stays as it is; a
 /// negative lag reads later), and the options with no lag left. The
 /// passes' states then stand for the gyro's instants, as the real-time
 /// filter's do, and the sensor's delay carries them to the time stamps as
@@ -555,17 +556,20 @@ fn at_gyro_instants(
     }
     let mut opts = opts.clone();
     opts.params.gyro_lag_s = 0.0;
-    Some((read_at(acc, dt, -lag), opts))
+    // a specific force the filter would refuse (non-finite, beyond the
+    // physical bounds) is neither read nor made readable
+    let good = |a: &Vec3| usable(&Vec3::zeros(), a);
+    Some((read_at(acc, dt, -lag, good), opts))
 }
 
 /// The series `x` read `by` seconds after each sample's time (the running
 /// time of `dt`): linear between the two samples around that time, the
-/// nearer of them where the other is not finite, the end sample's beyond
-/// either end.
-fn read_at(x: &[Vec3], dt: &[f64], by: f64) -> Vec<Vec3> {
+/// nearer of them where the other is not `good`, the end sample's beyond
+/// either end. A sample that is not `good` itself stays as it is (a bad
+/// reading is not replaced by its neighbours', nor spread into them).
+fn read_at(x: &[Vec3], dt: &[f64], by: f64, good: impl Fn(&Vec3) -> bool) -> Vec<Vec3> {
     let n = x.len().min(dt.len());
     let t = running_time(&dt[..n]);
-    let finite = |v: &Vec3| v.iter().all(|c| c.is_finite());
     let mut j = 0;
     (0..n)
         .map(|k| {
@@ -584,11 +588,11 @@ fn read_at(x: &[Vec3], dt: &[f64], by: f64) -> Vec<Vec3> {
             } else {
                 0.0
             };
-            match (finite(&x[j]), finite(&x[j1])) {
-                (true, true) => x[j] + (x[j1] - x[j]) * f,
-                (true, false) => x[j],
-                (false, true) => x[j1],
-                (false, false) => x[k],
+            match (good(&x[k]), good(&x[j]), good(&x[j1])) {
+                (false, _, _) | (true, false, false) => x[k],
+                (true, true, true) => x[j] + (x[j1] - x[j]) * f,
+                (true, true, false) => x[j],
+                (true, false, true) => x[j1],
             }
         })
         .collect()
@@ -1768,7 +1772,8 @@ mod tests {
         let x: Vec<Vec3> = (0..6)
             .map(|k| Vec3::new(k as f64, 0.0, -2.0 * k as f64))
             .collect();
-        let later = read_at(&x, &dt, 0.15);
+        let ok = |v: &Vec3| v.iter().all(|c| c.is_finite() && c.abs() < 1e6);
+        let later = read_at(&x, &dt, 0.15, ok);
         for (k, v) in later.iter().enumerate() {
             let want = (k as f64 + 1.5).min(5.0);
             assert!(
@@ -1776,17 +1781,22 @@ mod tests {
                 "{k}: {v}"
             );
         }
-        let earlier = read_at(&x, &dt, -0.025);
+        let earlier = read_at(&x, &dt, -0.025, ok);
         for (k, v) in earlier.iter().enumerate() {
             let want = (k as f64 - 0.25).max(0.0);
             assert!((v.x - want).abs() < 1e-12, "{k}: {v}");
         }
-        let mut y = x.clone();
-        y[3] = Vec3::repeat(f64::NAN);
-        let r = read_at(&y, &dt, 0.05);
-        assert_eq!(r[2], x[2], "the finite one of samples 2 and 3");
-        assert_eq!(r[3], x[4], "the finite one of samples 3 and 4");
-        assert!((r[4].x - 4.5).abs() < 1e-12);
+        // a bad reading (NaN, 1e308) is not read, not spread and not
+        // replaced: its own sample stays bad, its neighbours take the good one
+        for bad in [Vec3::repeat(f64::NAN), Vec3::new(1e308, 0.0, 0.0)] {
+            let mut y = x.clone();
+            y[3] = bad;
+            let r = read_at(&y, &dt, 0.05, ok);
+            assert_eq!(r[2], x[2], "the good one of samples 2 and 3");
+            assert!(!ok(&r[3]), "sample 3 stays as it was: {}", r[3]);
+            assert!((r[4].x - 4.5).abs() < 1e-12);
+            assert!(r.iter().enumerate().all(|(k, v)| k == 3 || ok(v)));
+        }
         // no lag: no copy
         assert!(at_gyro_instants(&x, &dt, &SmoothOptions::default()).is_none());
     }

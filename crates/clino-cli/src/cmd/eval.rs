@@ -69,6 +69,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         bar.set_message(p.display().to_string());
     })?;
     bar.finish_and_clear();
+    for r in table.recordings.iter().filter(|r| r.timing_note_not_taken) {
+        eprintln!(
+            "clino eval: warning: {}: a clino.* note after the first sample, or a clino.sensor_timing note that does not read as sensor_delay_periods=…,gyro_lag_s=…, was not taken",
+            r.file.display()
+        );
+    }
     if a.json {
         println!("{}", serde_json::to_string_pretty(&table)?);
     } else {

@@ -2588,6 +2588,12 @@ impl Dynamic {
         self.vel
     }
 
+    /// The rate the strapdown step integrates: (ω − b)·(1 − s − s_m), the
+    /// gyro bias and both learnt scale errors taken out.
+    fn corrected_rate(&self, gyr: &Vec3) -> Vec3 {
+        (gyr - self.bias).component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale))
+    }
+
     fn bandwidth(&self) -> f64 {
         let p = &self.params;
         let mut bw = p.bandwidth_rad_s * sqrt(1.0 + self.rate_lp * self.inv.scale_rate);
@@ -2612,13 +2618,15 @@ impl AttitudeFilter for Dynamic {
         // the accelerometer's learnt scale errors and bias (zero until rest
         // pairs show them)
         let acc = correct_specific_force(&acc, &self.gsl.d, &self.gsl.b);
-        // the accelerometer at the gyro's instant ([`DynamicParams::gyro_lag_s`])
-        let acc = if self.params.gyro_lag_s != 0.0 {
-            let w = (gyr - self.bias)
-                .component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale));
-            turned_over(&acc, &w, self.params.gyro_lag_s)
-        } else {
-            acc
+        // the accelerometer at the gyro's instant ([`DynamicParams::gyro_lag_s`]);
+        // a rate too large to turn by (beyond the physical bounds, which
+        // `admit` refuses as such) leaves it as it is
+        let acc = match self.params.gyro_lag_s {
+            0.0 => acc,
+            lag => {
+                let turned = turned_over(&acc, &self.corrected_rate(&gyr), lag);
+                if finite3(&turned) { turned } else { acc }
+            }
         };
         match admit(&gyr, &acc, dt, self.initialised) {
             Admit::Run => {}
@@ -2635,8 +2643,7 @@ impl AttitudeFilter for Dynamic {
                 (self.arm_input_f1, self.arm_input_f) = (self.arm_input, self.arm_input);
                 self.gyr_lp = gyr;
                 self.w_prev2 = (Vec3::repeat(f64::NAN), f64::NAN);
-                self.w_prev = (gyr - self.bias)
-                    .component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale));
+                self.w_prev = self.corrected_rate(&gyr);
                 self.initialised = true;
                 self.from_accel = true;
                 self.time = 0.0;
@@ -2726,8 +2733,7 @@ impl AttitudeFilter for Dynamic {
         }
         let (gyr_f, acc_f) = (self.gyr_f, self.acc_f);
         self.gyr_lp += (gyr_f - self.gyr_lp) * self.inv.k_rest.max(mean_k);
-        let w =
-            (gyr - self.bias).component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale));
+        let w = self.corrected_rate(&gyr);
         let w2 = w.norm_squared();
         // every sample, on the vibration-filtered signals, against the means of
         // the stillness so far: motion ends rest within ≈ `vibration_tau_s`, and
@@ -5666,6 +5672,43 @@ mod tests {
         let (turning, stopped) = drum_errors_lagged(lagged(0.0, -0.01), 1.0, -1.0);
         assert!(turning < 0.02, "{turning}°");
         assert!(stopped < 0.02, "{stopped}°");
+    }
+
+    #[test]
+    fn with_a_lag_a_bad_sample_is_refused_and_changes_nothing() {
+        let mut f = Dynamic::new(DynamicParams {
+            gyro_lag_s: 0.001,
+            ..Default::default()
+        });
+        let g = Vector3::new(0.0, 0.0, G0);
+        for _ in 0..200 {
+            f.update(Vector3::new(0.1, 0.0, 0.0), g, 0.01);
+        }
+        let before = f.clone();
+        for gyr in [
+            Vector3::new(f64::NAN, 0.0, 0.0),
+            Vector3::new(0.0, f64::INFINITY, 0.0),
+        ] {
+            assert_eq!(f.update(gyr, g, 0.01), Step::Rejected, "{gyr}");
+        }
+        assert_eq!(
+            f.update(Vector3::zeros(), Vector3::repeat(f64::NAN), 0.01),
+            Step::Rejected
+        );
+        assert_eq!(f.q, before.q);
+        assert_eq!(f.bias, before.bias);
+        // a reading beyond the physical bounds is the pipeline's to refuse,
+        // as without a lag
+        let mut p = crate::pipeline::Pipeline::new(crate::filter::FilterSpec::Dynamic(f.params));
+        for k in 0..200 {
+            p.update(&crate::ImuSample::new(k as f64 * 0.01, Vector3::zeros(), g));
+        }
+        let o = p.update(&crate::ImuSample::new(
+            2.0,
+            Vector3::new(1e308, 0.0, 0.0),
+            g,
+        ));
+        assert_eq!(o.status, crate::pipeline::Status::Saturated);
     }
 
     #[test]

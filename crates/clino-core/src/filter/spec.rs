@@ -357,7 +357,7 @@ const DYNAMIC_PARAMS: [ParamInfo; 27] = [
         "sensor_delay_periods",
         "periods",
         num(0.0, 100.0, false),
-        "the sensor's delay of its samples behind their time stamps (its anti-alias filter), in sample periods; the output is carried over it",
+        "the sensor's delay of its samples behind their time stamps (its anti-alias filter; the gyro's where the two triads differ, gyro_lag_s), in sample periods; the output is carried over it",
     ),
     p(
         "gyro_lag_s",
