@@ -2368,11 +2368,18 @@ mod tests {
         // pairs end at their means (6 Dec 2026) the learnt scale is taken
         // on seed 1, and no fit after it: 0.067° not learnt again (at
         // 2d0bb51); learnt again 0.043°, 0.071° without a scale; seed 4
-        // 0.060° and 0.190°
-        for seed in [1, 4] {
+        // 0.060° and 0.190°. Since the pairs' magnitudes (7 Dec 2026), which
+        // the gyro has no part in, the learning passes take less of the scale
+        // for the accelerometer's errors: seed 1 0.035° and 0.049° without a
+        // scale, seed 4 0.061° and 0.189°; the bounds are under the scale
+        // imposed but not learnt again (0.067°, 0.129°)
+        for (seed, most) in [(1, 0.045), (4, 0.08)] {
             let (on, off, _) = arm_offline_by_scale(Vec3::new(0.02, -0.015, 0.01), seed, 30.0);
             println!("seed {seed}: {on}°, without a scale {off}°");
-            assert!(on < 0.65 * off, "seed {seed}: {on}° against {off}°");
+            assert!(
+                on < 0.8 * off && on < most,
+                "seed {seed}: {on}° against {off}°"
+            );
         }
     }
 

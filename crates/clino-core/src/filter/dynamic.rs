@@ -634,6 +634,22 @@ pub struct Dynamic {
 /// turns it by P_u·β/|f|, which adds (C·P_u₁/|f₁| − P_u₀/|f₀|)·β. One linear
 /// observation of the nine errors per pair of rests (two components; the
 /// rotation about gravity and a common accelerometer scale are not seen).
+/// Where the accelerometer's errors are learnt, a third component that the
+/// gyro has no part in: the two rests' specific forces differ in length by
+/// Σ(u₁ᵢ² − u₀ᵢ²)·δᵢ + (u₁ − u₀)·β/g, in units of g ([`magnitude_per_error`];
+/// local gravity and a common scale cancel), as uncertain as the directions
+/// (an MPU6050's ±2 % cross-axis sensitivity moves both by as much,
+/// [`SCALE_OBS_NOISE_RAD`]). This is the multi-position calibration's
+/// gravity magnitude, pair by pair. Without it the accelerometer's errors
+/// were read only through directions that the gyro carries from rest to
+/// rest, so whatever the gyro's model does not hold (its cross-axis terms)
+/// was partly taken for an accelerometer bias: the hand at 100 Hz with
+/// cross-axis terms of 0.5–1.2 %, 3.35 mg of horizontal bias learnt on a
+/// calibrated accelerometer (seeds 1–4), now 2.2 mg. Over the
+/// generalisation grid a 10-mg bias moved by hand went 0.71–0.83× →
+/// 0.66–0.75× VQF, on the slow arm 0.91–0.92× → 0.87× (offline
+/// 0.19–0.47° → 0.12–0.38°), ±5 % scale 0.67 → 0.59–0.60×; BROAD 0.610 →
+/// 0.609° (BENCHMARKS.md).
 /// The estimate x = (σ, δ, β) is the regularised least-squares solution of all
 /// of them, (Σ HᵀH + Λ)·x = Σ Hᵀ(y + H·x_used), with Λ = diag((r/σ₀)²) from the
 /// priors σ₀ and the noise r of one observation, averaged over the models in
@@ -663,8 +679,10 @@ struct ScaleLearner {
     pairs: u32,
     /// 1σ of (s, d, b) from the last update ([`model_average`]).
     sd: V9,
-    /// Σ|y|² of the observations (as `g`, relative to no errors) and their
-    /// number, for the noise estimate ([`pair_noise`]).
+    /// Σ|y|² of the observations (as `g`, relative to no errors) and the
+    /// number of their components (two directions a pair, and its
+    /// magnitude where the accelerometer is learnt), for the noise
+    /// estimate ([`pair_noise`]).
     yy: f64,
     nobs: f64,
     /// The observation noise r² in use ([`pair_noise`]).
@@ -990,6 +1008,17 @@ fn direction_per_scale(u: &Vec3) -> nalgebra::Matrix3<f64> {
     (nalgebra::Matrix3::identity() - u * u.transpose()) * nalgebra::Matrix3::from_diagonal(u)
 }
 
+/// How the lengths of the specific force at two rests, along `u0` and `u1`,
+/// differ through small accelerometer errors, in units of `g`: by hd·δ for
+/// scale errors δ and hb·β for a bias β, with hd = (u₁ᵢ² − u₀ᵢ²)ᵢ and
+/// hb = (u₁ − u₀)/g (|f·(1 + δ) + β| ≈ g·(1 + Σuᵢ²δᵢ) + u·β at each rest).
+/// Local gravity cancels, and so does a common scale error (Σuᵢ² = 1 at
+/// both): what is left depends on the accelerometer alone, not on the gyro
+/// that carries one rest's direction to the other.
+fn magnitude_per_error(u0: &Vec3, u1: &Vec3, g: f64) -> (Vec3, Vec3) {
+    (u1.component_mul(u1) - u0.component_mul(u0), (u1 - u0) / g)
+}
+
 /// How a small accelerometer bias β turns the measured direction of a
 /// specific force of magnitude `n` along u: u_meas ≈ u + P_u·β/n.
 fn direction_per_bias(u: &Vec3, n: f64) -> nalgebra::Matrix3<f64> {
@@ -1099,8 +1128,9 @@ const PAIR_NOISE_MAX_RAD: f64 = 0.1;
 /// The noise r² of one rest-pair observation, estimated from the pairs
 /// themselves: the residual of the regularised fit with every learnt group
 /// in, Σ|y|² − gᵀ(A + Λ)⁻¹g (the residual sum of squares plus the penalty
-/// x̂ᵀΛx̂: a little above the residual, never below), over its degrees of freedom (two per pair less
-/// the effective number of parameters, tr A(A + Λ)⁻¹), pooled with the prior
+/// x̂ᵀΛx̂: a little above the residual, never below), over its degrees of freedom (the
+/// `nobs` observation components less the effective number of parameters,
+/// tr A(A + Λ)⁻¹), pooled with the prior
 /// [`SCALE_OBS_NOISE_RAD`]² at [`PAIR_NOISE_PRIOR_DOF`]. `lam` is Λ at the
 /// noise in use `r2`.
 ///
@@ -1134,7 +1164,7 @@ fn pair_noise(a: &M9, g: &V9, yy: f64, nobs: f64, lam: &V9, r2: f64, on: [bool; 
         .filter(|&i| inside(i))
         .map(|i| 1.0 - lam[i] * inv[(i, i)])
         .sum();
-    let dof = (2.0 * nobs - params).max(0.0);
+    let dof = (nobs - params).max(0.0);
     let est = (PAIR_NOISE_PRIOR_DOF * r0 + ssr) / (PAIR_NOISE_PRIOR_DOF + dof);
     let (lo, hi) = (
         PAIR_NOISE_MIN_RAD * PAIR_NOISE_MIN_RAD,
@@ -1473,7 +1503,7 @@ impl ScaleLearner {
             let c = rot.to_rotation_matrix();
             let y = arc_miss(&l.u0, &(c * u_now));
             if y.norm() < SCALE_MISS_MAX_RAD {
-                let mut h = nalgebra::SMatrix::<f64, 3, 9>::zeros();
+                let mut h = nalgebra::SMatrix::<f64, 4, 9>::zeros();
                 // the prior variance of each error, per group (0: not learnt)
                 let mut prior = V9::zeros();
                 if p.gyro_scale_sigma > 0.0 {
@@ -1497,6 +1527,31 @@ impl ScaleLearner {
                     h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
                     prior.fixed_rows_mut::<3>(6).fill(bias_sigma * bias_sigma);
                 }
+                // the magnitudes, which the gyro has no part in: the two
+                // rests' specific forces differ in length by
+                // g·Σ(u₁ᵢ² − u₀ᵢ²)·δᵢ + (u₁ − u₀)·β to first order (local
+                // gravity and a common scale cancel), a fourth component in
+                // units of g, as uncertain as the directions (an
+                // MPU6050's ±2 % cross-axis sensitivity moves both by as
+                // much, SCALE_OBS_NOISE_RAD). See [`ScaleLearner`].
+                let magnitude = (p.accel_scale_sigma > 0.0 || bias_sigma > 0.0)
+                    && n0 > 0.0
+                    && n0.is_finite()
+                    && n1.is_finite();
+                let ym = if magnitude {
+                    let g = p.gravity_m_s2;
+                    let (hd, hb) = magnitude_per_error(&l.u0, &u_now, g);
+                    if p.accel_scale_sigma > 0.0 {
+                        h.fixed_view_mut::<1, 3>(3, 3).copy_from(&hd.transpose());
+                    }
+                    if bias_sigma > 0.0 {
+                        h.fixed_view_mut::<1, 3>(3, 6).copy_from(&hb.transpose());
+                    }
+                    (n1 - n0) / g
+                } else {
+                    0.0
+                };
+                let y = nalgebra::Vector4::new(y.x, y.y, y.z, ym);
                 let mut used = V9::zeros();
                 used.fixed_rows_mut::<3>(0).copy_from(&l.s);
                 used.fixed_rows_mut::<3>(3).copy_from(&l.d);
@@ -1505,7 +1560,7 @@ impl ScaleLearner {
                 l.a += h.transpose() * h;
                 l.g += h.transpose() * y1;
                 l.yy += y1.norm_squared();
-                l.nobs += 1.0;
+                l.nobs += if magnitude { 3.0 } else { 2.0 };
                 let on = [
                     p.gyro_scale_sigma > 0.0,
                     p.accel_scale_sigma > 0.0,
@@ -3853,6 +3908,35 @@ mod tests {
     }
 
     #[test]
+    fn the_magnitudes_change_is_first_order_in_the_accelerometers_errors() {
+        // the exact lengths of f·(1 + δ) + β at two poses against the
+        // linear model the learner observes them with, in units of g
+        let g = 9.81;
+        let u0 = Vec3::new(0.1, -0.2, 0.97).normalize();
+        let u1 = Vec3::new(0.6, 0.5, 0.62).normalize();
+        let (hd, hb) = magnitude_per_error(&u0, &u1, g);
+        let change = |d: Vec3, b: Vec3| {
+            let len = |u: &Vec3| ((u * g).component_mul(&(Vec3::repeat(1.0) + d)) + b).norm();
+            (len(&u1) - len(&u0)) / g
+        };
+        let (d, b) = (Vec3::new(0.01, -0.02, 0.015), Vec3::new(0.05, -0.08, 0.03));
+        let exact = change(d, b);
+        let model = hd.dot(&d) + hb.dot(&b);
+        // the effect is about 1e-2 of g; what the model leaves is second order
+        assert!(exact.abs() > 5e-3, "{exact}");
+        assert!((exact - model).abs() < 5e-4, "{exact} against {model}");
+        // halve the errors: the model's miss falls four times
+        let half = change(d * 0.5, b * 0.5) - (hd.dot(&d) + hb.dot(&b)) * 0.5;
+        assert!(half.abs() < 0.3 * (exact - model).abs(), "{half}");
+        // a common scale error and local gravity leave no trace
+        assert!(hd.dot(&Vec3::repeat(0.03)).abs() < 1e-15);
+        assert!(change(Vec3::repeat(0.03), Vec3::zeros()).abs() < 1e-15);
+        let (hd2, hb2) = magnitude_per_error(&u0, &u1, 9.78);
+        assert_eq!(hd2, hd);
+        assert!((hb2 * 9.78 - hb * g).norm() < 1e-15);
+    }
+
+    #[test]
     fn pair_noise_is_the_residual_of_the_pairs_fit() {
         // Pairs y = H·x + n with n of a known 1σ per component, H of the size
         // a pair's Jacobians have (≈ 0.3 per unit error), x a true error set:
@@ -3878,7 +3962,7 @@ mod tests {
                 yy += y.norm_squared();
                 // as the learner does: Λ at the noise in use, prior 1σ 0.1
                 let lam = V9::repeat(r2 / 0.01);
-                r2 = pair_noise(&a, &g, yy, f64::from(k), &lam, r2, on);
+                r2 = pair_noise(&a, &g, yy, 2.0 * f64::from(k), &lam, r2, on);
             }
             // σ² over 2n − 9 degrees of freedom, pooled with 4·(0.02)²
             let dof = 2.0 * f64::from(n) - 9.0;
