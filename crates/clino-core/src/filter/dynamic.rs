@@ -1527,13 +1527,8 @@ impl ScaleLearner {
                     h.fixed_view_mut::<3, 3>(0, 6).copy_from(&hb);
                     prior.fixed_rows_mut::<3>(6).fill(bias_sigma * bias_sigma);
                 }
-                // the magnitudes, which the gyro has no part in: the two
-                // rests' specific forces differ in length by
-                // g·Σ(u₁ᵢ² − u₀ᵢ²)·δᵢ + (u₁ − u₀)·β to first order (local
-                // gravity and a common scale cancel), a fourth component in
-                // units of g, as uncertain as the directions (an
-                // MPU6050's ±2 % cross-axis sensitivity moves both by as
-                // much, SCALE_OBS_NOISE_RAD). See [`ScaleLearner`].
+                // the two rests' lengths, a fourth component in units of g
+                // that the gyro has no part in ([`ScaleLearner`])
                 let magnitude = (p.accel_scale_sigma > 0.0 || bias_sigma > 0.0)
                     && n0 > 0.0
                     && n0.is_finite()
