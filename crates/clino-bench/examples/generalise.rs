@@ -493,6 +493,11 @@ enum Kind {
     /// sensor's tangential and centripetal accelerations turn with it
     /// ([`Offset`]), no lever arm given to any filter.
     Arm,
+    /// [`Kind::Arm`] with the arm given, as a user who measured it runs
+    /// `clino fuse --lever-arm` (the `dyn+bias` column: the bias estimator
+    /// that flag switches on): the joint is carried by the hand, so the
+    /// arm's terms leave the hand's own accelerations.
+    ArmGiven,
     /// A drum turning one way about its horizontal x axis at 2 ± 1 rad/s
     /// (swing 0.1 Hz) in runs of 20 s with stops of 4 s ([`Drum`]): a gyro
     /// scale error drifts the tilt at a rate with a mean while it turns.
@@ -515,6 +520,7 @@ impl Kind {
             Kind::ShortRests => "hand,rests1s",
             Kind::Held => "hand,held",
             Kind::Arm => "hand,arm0.25m",
+            Kind::ArmGiven => "hand,arm0.25m+lever",
             Kind::Hand2x => "hand,2x",
             Kind::Hand3x => "hand,3x",
             Kind::Shake => "shake",
@@ -599,14 +605,18 @@ fn make(c: &Condition, seed: u64) -> Rec {
             }
             rec
         }
-        Kind::Arm => {
+        Kind::Arm | Kind::ArmGiven => {
             let hand = HandMotion::new(HandParams::by_hand(), seed);
             let m = Offset {
                 motion: hand,
                 r_body_m: Vec3::new(0.25, 0.05, 0.0),
             };
             let from = hand.params.initial_rest_s;
-            with_rests(sim(&m, from), &hand)
+            let mut rec = with_rests(sim(&m, from), &hand);
+            if let Kind::ArmGiven = c.kind {
+                rec.lever = Some(m.r_body_m);
+            }
+            rec
         }
         Kind::Hand
         | Kind::Hand2x
@@ -1589,6 +1599,8 @@ fn main() -> clino::Result<()> {
         (Kind::Arm, Sensor::Calibrated, 40.0),
         (Kind::Arm, Sensor::Calibrated, 100.0),
         (Kind::Arm, Sensor::Bias, 40.0),
+        (Kind::ArmGiven, Sensor::Calibrated, 40.0),
+        (Kind::ArmGiven, Sensor::Calibrated, 100.0),
         (Kind::Hand, Sensor::CrossAxis, 40.0),
         (Kind::Hand, Sensor::CrossAxis, 100.0),
         (Kind::Hand, Sensor::GyroCross, 40.0),

@@ -398,6 +398,9 @@ impl Pipeline {
     /// other filter the estimator stays at its priors). Its current estimates
     /// are removed from every sample before the filter sees it: the bias, and
     /// the tangential and centripetal terms of the estimated (or given) arm.
+    /// The bias only while the arm's model holds
+    /// ([`MountEstimator::lever_model_holds`]: the axis does not move), given
+    /// or estimated; without an arm, the share of it the data pin down.
     /// With `opts.estimate_lever` or a non-zero `opts.lever_arm_m` the lever
     /// stage is switched on.
     pub fn with_mount_estimator(mut self, opts: Option<MountOptions>) -> Self {
@@ -686,12 +689,13 @@ impl Pipeline {
                 self.mount_blocks = m.blocks();
                 let feedback = m.options().estimate_bias;
                 // the whole estimate where the mount's accelerations are
-                // modelled (a lever arm, given or estimated and explaining
-                // them); none where an estimated arm does not explain them
+                // modelled (a lever arm, given or estimated, about an axis
+                // that does not move); none where they are not
                 // (MountEstimator::lever_model_holds: a hand, a robot arm,
-                // whose own accelerations and gyro errors turn with it as
-                // the bias does); the share the data have pinned down where
-                // no arm is modelled (MountEstimator::applied_accel_bias)
+                // a joint carried by hand, whose own accelerations and gyro
+                // errors turn with it as the bias does); the share the data
+                // have pinned down where no arm is modelled
+                // (MountEstimator::applied_accel_bias)
                 let target = if !m.lever_model_holds() {
                     Vec3::zeros()
                 } else if self.lever.is_some() {

@@ -579,9 +579,9 @@ impl FilterConfig {
                     lever_arm_m = Some(m.applied_lever_arm());
                 }
                 // what the real-time pass ended by removing: the whole
-                // estimate where the lever arm (given, or estimated and
-                // explaining the accelerations) models them, none where an
-                // estimated arm does not (MountEstimator::lever_model_holds)
+                // estimate where the lever arm (given or estimated, about
+                // an axis that does not move) models the accelerations,
+                // none where it does not (MountEstimator::lever_model_holds)
                 let b = p.applied_accel_bias();
                 held.acc.iter_mut().for_each(|a| *a -= b);
             }
