@@ -300,6 +300,15 @@ fn lever_arm_auto_leaves_a_hand_held_broad_trial_as_it_was() {
         stderr(&auto)
     );
     assert!(stderr(&auto).contains("NOT applied"), "{}", stderr(&auto));
+    // an arm given (0.58 m, the length auto finds there): the bias estimate
+    // read from the same accelerations is not applied either
+    let given = clino(&["fuse", input, "--lever-arm", "0.58,0,0"]);
+    assert!(given.status.success(), "{}", stderr(&given));
+    assert!(
+        stderr(&given).contains("bias estimate NOT applied"),
+        "{}",
+        stderr(&given)
+    );
     let incl = |o: &std::process::Output| -> Vec<f64> {
         String::from_utf8_lossy(&o.stdout)
             .lines()

@@ -900,10 +900,16 @@ pub struct MountReport {
     /// ([`clino_core::compensate::MountEstimator::noise_sigma`]): the mount's
     /// own acceleration over half a second, and what the model leaves.
     pub noise_sigma_m_s2: f64,
-    /// Whether the estimated arm (and the whole bias estimate with it) was
-    /// applied at the end: given, or its model holding
+    /// Whether the arm the samples were compensated with at the end is the
+    /// one reported: given, or estimated with its model holding
     /// ([`clino_core::compensate::MountEstimator::lever_model_holds`]).
     pub lever_applied: bool,
+    /// Whether the bias estimate was removed from the samples at the end:
+    /// estimated, and the arm's model holding, given or estimated (its
+    /// terms leave at most
+    /// [`clino_core::compensate::LEVER_FIXED_AXIS_M_S2`] of the block-mean
+    /// specific force: the axis does not move).
+    pub bias_applied: bool,
     /// The arm the samples were compensated with at the end, m: the
     /// estimate where it explains the accelerations, else its prior
     /// ([`clino_core::compensate::MountEstimator::applied_lever_arm`]).
@@ -921,7 +927,8 @@ impl MountReport {
             lever_arm_sigma_m: a(m.lever_arm_sigma()),
             lever_explains: m.lever_explains(),
             noise_sigma_m_s2: m.noise_sigma(),
-            lever_applied: m.lever_model_holds(),
+            lever_applied: !m.options().estimate_lever || m.lever_model_holds(),
+            bias_applied: m.options().estimate_bias && m.lever_model_holds(),
             lever_arm_applied_m: a(m.applied_lever_arm()),
         }
     }

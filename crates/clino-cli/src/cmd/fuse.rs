@@ -84,6 +84,13 @@ fn mount_summary(m: &clino::fusion::MountReport, lever_auto: bool) -> String {
         sb[1] * mg,
         sb[2] * mg
     );
+    if !lever_auto && !m.bias_applied {
+        s.push_str(&format!(
+            "\nclino fuse: the bias estimate NOT applied: the given arm's terms leave {:.3} m/s² of the block-mean acceleration a block (1σ), where a rigid body turning about a fixed axis leaves at most {} m/s²; the point on the axis moves, and the tilt is the filter's own with the arm's terms removed",
+            m.noise_sigma_m_s2,
+            clino::core::compensate::LEVER_FIXED_AXIS_M_S2
+        ));
+    }
     if lever_auto {
         let (r, sr) = (m.lever_arm_m, m.lever_arm_sigma_m);
         s.push_str(&format!(
@@ -293,4 +300,30 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("{hint}");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A given arm whose model does not hold (the point on the axis moves):
+    /// the bias estimate printed was not removed, and the summary says so,
+    /// where it had printed the estimate as if it had been.
+    #[test]
+    fn a_given_arm_whose_bias_was_not_applied_says_so() {
+        let m = clino::fusion::MountReport {
+            noise_sigma_m_s2: 0.43,
+            lever_applied: true,
+            bias_applied: false,
+            ..Default::default()
+        };
+        let s = mount_summary(&m, false);
+        assert!(s.contains("bias estimate NOT applied"), "{s}");
+        assert!(s.contains("leave 0.430 m/s²"), "{s}");
+        let applied = clino::fusion::MountReport {
+            bias_applied: true,
+            ..m
+        };
+        assert!(!mount_summary(&applied, false).contains("NOT applied"));
+    }
 }
