@@ -914,4 +914,38 @@ mod mount_tests {
         assert_eq!(p.applied_accel_bias(), Vec3::zeros());
         assert!(with < 1.05 * alone, "{with}° against {alone}°");
     }
+
+    /// Issue 13: a given arm stays believed once its model has held while
+    /// the turns pinned the bias down. The slewing machine, clean for its
+    /// first slews, then shaken from 40 s on by 0.3 m/s² at 0.7 Hz (digging,
+    /// travel): its blocks leave 0.17 m/s², over the fixed-axis bar, yet the
+    /// bias was learnt where the arm held. Measured on this seed: 0.088°
+    /// with the bias kept, 0.453° had it been dropped when the noise rose
+    /// (the gate without the vouching).
+    #[test]
+    fn a_given_arm_that_held_keeps_its_bias_when_the_machine_is_shaken() {
+        use crate::sim::motion::{Orbit, Sum};
+        let base = SlewingPlatform::default();
+        let w = 2.0 * std::f64::consts::PI * 0.7;
+        let m = Sum {
+            a: base.clone(),
+            b: Orbit {
+                amplitude_m: Vec3::new(0.3, 0.3, 0.15) / (w * w),
+                phase_rad: Vec3::new(0.0, 1.0, 2.0),
+                omega_rad_s: w,
+                attitude: Attitude::identity(),
+                start_s: 40.0,
+                ramp_s: 2.0,
+            },
+        };
+        let (model, _) = uncalibrated_bias();
+        let s = model.simulate(&m, 100.0, 120.0, 1);
+        let (e, p) = run(&m, &s, base.initial_rest_s, lever_given(&base));
+        let est = p.mount_estimator().unwrap();
+        std::println!("{e}°, noise {} m/s²", est.noise_sigma());
+        let bar = clino_core::compensate::LEVER_FIXED_AXIS_M_S2;
+        assert!(est.noise_sigma() > bar, "{}", est.noise_sigma());
+        assert!(est.lever_model_holds());
+        assert!(e < 0.15, "{e}°");
+    }
 }
