@@ -978,11 +978,12 @@ impl MountEstimator {
         let before = self.noise_var;
         self.noise_var += a * (e.max(floor) - self.noise_var);
         self.noise_var = self.noise_var.max(floor);
-        // a given arm (not none) whose model held (the noise learnt from the blocks
-        // themselves, under the fixed-axis bar) while the turns pinned the
-        // bias down: the bias was learnt where the arm holds, and later
-        // rougher blocks (digging, travel) weigh little in it
+        // a given arm (not none) whose model held (the noise learnt from
+        // the blocks themselves, under the fixed-axis bar) while the turns
+        // pinned the bias down: the bias was learnt where the arm holds,
+        // and later rougher blocks (digging, travel) weigh little in it
         if self.arm_given()
+            && self.opts.estimate_bias
             && self.seen_s >= VOUCH_SEEN_S
             && self.noise_var < LEVER_FIXED_AXIS_M_S2 * LEVER_FIXED_AXIS_M_S2
         {
