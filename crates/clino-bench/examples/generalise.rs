@@ -26,7 +26,7 @@
 //! rocking at 1.5–5 Hz with no linear sway), a sensor shaken to and fro
 //! with little rotation (BROAD's fast translations), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
-//! excavator. The sensors: calibrated, or with one kind of error each
+//! excavator (also digging from the start, which keeps every rest out). The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms of
 //! both triads or of either alone, a
 //! board warming up, a wide gyro range, a gyro 1 ms behind its
@@ -507,6 +507,10 @@ enum Kind {
     /// The slewing excavator whose boom sways at 1.5–4.5 Hz by seed (1 m/s²,
     /// 1°/s) instead of its engine's 30 Hz.
     SlewingSway,
+    /// The slewing excavator rocked from the start by its digging (its
+    /// whole body translated on an ellipse of 0.3 m/s² at 0.7 Hz,
+    /// [`slewing::digging`]): its dwells never pass for rest.
+    SlewingRock,
 }
 
 impl Kind {
@@ -527,6 +531,7 @@ impl Kind {
             Kind::Drum => "drum",
             Kind::Slewing => "slewing+lever",
             Kind::SlewingSway => "slewing+sway+lever",
+            Kind::SlewingRock => "slewing+rock+lever",
         }
     }
 }
@@ -561,7 +566,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
         )
     };
     match c.kind {
-        Kind::Slewing | Kind::SlewingSway => {
+        Kind::Slewing | Kind::SlewingSway | Kind::SlewingRock => {
             let mut m = SlewingPlatform {
                 chassis_heading: 0.7 + seed as f64,
                 vibration_hz: (0.35 * c.rate).min(30.0),
@@ -572,8 +577,17 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 m.vibration_m_s2 = 1.0;
                 m.vibration_rate_rad_s = 1f64.to_radians();
             }
+            let rocked = Sum {
+                a: m.clone(),
+                b: slewing::digging(0.0),
+            };
+            let motion: &dyn Motion = if let Kind::SlewingRock = c.kind {
+                &rocked
+            } else {
+                &m
+            };
             simulate(
-                &m,
+                motion,
                 &model,
                 c.rate,
                 seconds,
@@ -1656,6 +1670,9 @@ fn main() -> clino::Result<()> {
         (Kind::Slewing, Sensor::Bias, 50.0),
         (Kind::Slewing, Sensor::Calibrated, 50.0),
         (Kind::Slewing, Sensor::Calibrated, 25.0),
+        (Kind::SlewingRock, Sensor::Calibrated, 50.0),
+        (Kind::SlewingRock, Sensor::Bias, 50.0),
+        (Kind::SlewingRock, Sensor::Bias, 200.0),
     ] {
         conditions.push(Condition {
             name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),
