@@ -26,7 +26,9 @@
 //! rocking at 1.5–5 Hz with no linear sway), a sensor shaken to and fro
 //! with little rotation (BROAD's fast translations), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
-//! excavator (also digging from the start, which keeps every rest out). The sensors: calibrated, or with one kind of error each
+//! excavator (also digging from the start, which keeps every rest out), and a
+//! base precessing slowly on a cone (0.31°/s, under the rest detector's
+//! threshold), quiet or digging. The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms of
 //! both triads or of either alone, a
 //! board warming up, a wide gyro range, a gyro 1 ms behind its
@@ -106,7 +108,7 @@ use clino::eval::inclination_error;
 use clino::fusion::{FilterKind, FilterSpec, Pipeline, SensorRange, parse_spec};
 use clino::io::{CsvLineWriter, ImuCsvReader, ReadOptions};
 use clino::sim::hand::{HandMotion, HandParams, duty_clock};
-use clino::sim::motion::{Drum, Mounted, Offset, Sum, vibration};
+use clino::sim::motion::{Drum, Mounted, Offset, Static, Sum, vibration};
 use clino::sim::slewing::{self, SlewingPlatform};
 use clino::sim::{ImuModel, Motion};
 use nalgebra::Matrix3;
@@ -511,6 +513,15 @@ enum Kind {
     /// whole body translated on an ellipse of 0.3 m/s² at 0.7 Hz,
     /// [`slewing::digging`]): its dwells never pass for rest.
     SlewingRock,
+    /// A base precessing on a 2° cone at 0.025 Hz: a steady turn of
+    /// 0.31°/s, under the rest detector's 0.5°/s and slower than any hand
+    /// (a hull's slow list, a structure drifting, a tilt table creeping),
+    /// tilted 3° and never still.
+    Cone,
+    /// [`Kind::Cone`] on a machine digging ([`slewing::digging`]): no
+    /// stillness passes for rest, and the specific force cannot tell the
+    /// slow turn within a few seconds.
+    ConeDig,
 }
 
 impl Kind {
@@ -532,6 +543,8 @@ impl Kind {
             Kind::Slewing => "slewing+lever",
             Kind::SlewingSway => "slewing+sway+lever",
             Kind::SlewingRock => "slewing+rock+lever",
+            Kind::Cone => "cone",
+            Kind::ConeDig => "cone+dig",
         }
     }
 }
@@ -597,6 +610,19 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 // (the lever arm is in the machine's frame: upright only)
                 Attitude::identity(),
             )
+        }
+        Kind::Cone | Kind::ConeDig => {
+            let (hz, angle) = (0.025, 2f64.to_radians());
+            let w = 2.0 * std::f64::consts::PI * hz;
+            let base = Sum {
+                a: Static::new(Attitude::from_euler_angles(0.05, -0.03, 0.7 + seed as f64)),
+                b: vibration(hz, w * angle, Vec3::zeros()),
+            };
+            let mut dig = slewing::digging(0.0);
+            if let Kind::Cone = c.kind {
+                dig.amplitude_m = Vec3::zeros();
+            }
+            sim(&Sum { a: base, b: dig }, 10.0)
         }
         Kind::Drum => {
             let duty = HandParams {
@@ -1673,6 +1699,10 @@ fn main() -> clino::Result<()> {
         (Kind::SlewingRock, Sensor::Calibrated, 50.0),
         (Kind::SlewingRock, Sensor::Bias, 50.0),
         (Kind::SlewingRock, Sensor::Bias, 200.0),
+        (Kind::Cone, Sensor::Calibrated, 100.0),
+        (Kind::Cone, Sensor::Calibrated, 25.0),
+        (Kind::Cone, Sensor::Bias, 100.0),
+        (Kind::ConeDig, Sensor::Calibrated, 100.0),
     ] {
         conditions.push(Condition {
             name: format!("{}@{rate}Hz {}", kind.name(), sensor.name()),

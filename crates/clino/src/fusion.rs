@@ -1536,6 +1536,44 @@ mod tests {
         assert!(e < 0.03, "{e}°/s");
     }
 
+    #[test]
+    fn a_slow_turn_under_the_rest_threshold_is_not_learnt_as_bias() {
+        // Issue 13: a base precessing on a 2° cone at 0.025 Hz turns at
+        // 0.31°/s, under the rest detector's 0.5°/s: its stillnesses passed
+        // for rests and the turn was learnt as gyro bias (1.10°; VQF, which
+        // takes it for rest as well, 0.59°). The specific force turns with
+        // a turn and not with a bias: the share of the residual turn it
+        // follows is no longer learnt. Measured on this seed: 0.33°, the
+        // bias within 0.02 °/s of the truth; without the test (a throw-away
+        // build) 1.07° and 0.26 °/s.
+        use crate::eval::{Rms, inclination_error};
+        use crate::sim::Motion;
+        use crate::sim::motion::{Static, Sum, vibration};
+        use clino_core::AttitudeFilter;
+        let (hz, angle) = (0.025, 2f64.to_radians());
+        let w = 2.0 * std::f64::consts::PI * hz;
+        let m = Sum {
+            a: Static::new(Attitude::from_euler_angles(0.05, -0.03, 0.7)),
+            b: vibration(hz, w * angle, Vec3::zeros()),
+        };
+        let model = crate::sim::slewing::sensor().with_bandwidth(40.0);
+        let mut f = clino_core::pipeline::Pipeline::new(FilterSpec::default());
+        let mut rms = Rms::default();
+        for x in model.simulate(&m, 100.0, 120.0, 1) {
+            let q = f.update(&x).attitude.unwrap_or_else(Attitude::identity);
+            if x.t_s > 10.0 {
+                rms.push(inclination_error(&q, &m.truth(x.t_s).attitude));
+            }
+        }
+        let e = rms.value().to_degrees();
+        let b = (f.filter().gyro_bias() - model.gyro.bias)
+            .norm()
+            .to_degrees();
+        println!("{e}°, the gyro bias off by {b} °/s");
+        assert!(e < 0.5, "{e}°");
+        assert!(b < 0.1, "{b} °/s");
+    }
+
     /// The hand motion at `speed` times its own (turns up to 4 rad/s at 1)
     /// through the slewing machine's sensor with ranges of ±`gyro_dps` °/s
     /// and ±`acc_g` g, 100 Hz, `seed`, run with the ranges given (`told`) or
