@@ -95,7 +95,7 @@
 //!   loop learnt, and the bias walked off (0.49°/s in 120 s with a 10-mg
 //!   accelerometer bias). The simulated slewing machine digging from the
 //!   start (0.3 m/s² at 0.7 Hz), 50 Hz, 8 seeds: 0.118° (1.77× VQF's
-//!   error) → 0.060° (0.89×) calibrated, 1.125° (2.55×) → 0.73° (1.66×)
+//!   error) → 0.060° (0.90×) calibrated, 1.125° (2.55×) → 0.74° (1.67×)
 //!   with a 10-mg accelerometer bias (BENCHMARKS.md). The tight threshold:
 //!   the specific force, which the digging shakes, cannot tell a slow turn
 //!   from a bias there within a dwell (at 0.5°/s a base precessing on a
@@ -107,10 +107,10 @@
 //!   that the vibration-filtered specific force follows over the stillness
 //!   (a regression, `TurnConfirm`) is not learnt as bias, at a rest and at
 //!   a turn-free stillness. The cone, quiet, 8 seeds at 100 Hz: 1.10°
-//!   (1.87× VQF's error, which takes it for rest as well) → 0.34° (0.58×);
-//!   while digging 0.70° (1.91×) → 0.13° (0.36×); every other grid row
-//!   within 0.01 of its ratio but the slow arm with a 3°/s gyro bias (0.04
-//!   → 0.05×) (BENCHMARKS.md).
+//!   (1.87× VQF's error; VQF 0.59°) → 0.34° (0.58×); while digging 0.70°
+//!   (1.91×) → 0.13° (0.36×); every other grid row within 0.02 of its
+//!   ratio but the slow arm with a 3°/s gyro bias (0.04 → 0.05×)
+//!   (BENCHMARKS.md).
 //! * **Quiet rests follow a drifting bias.** What the bias learnt at rest
 //!   ages while moving over `bias_memory_s` (60 s): a pose held in a hand
 //!   creeps on under the rest thresholds, and its rest's mean rate is creep
@@ -1714,24 +1714,29 @@ struct TurnConfirm {
 }
 
 impl TurnConfirm {
-    /// A new stillness, its specific force `f` at the start.
-    fn start(&mut self, f: &Vec3) {
-        *self = Self {
-            f0: *f,
-            ..Default::default()
-        };
+    /// A new stillness: the next sample starts it (one store a sample while
+    /// the mount moves).
+    fn restart(&mut self) {
+        self.n = 0.0;
     }
 
     /// One sample of the stillness: the residual rate ω̃ and the specific
-    /// force.
+    /// force (the first sample's is f₀).
     fn push(&mut self, rate: &Vec3, f: &Vec3, dt: f64) {
+        if self.n == 0.0 {
+            *self = Self {
+                f0: *f,
+                ..Default::default()
+            };
+        }
         self.theta += rate * dt;
         let p = self.f0.cross(&self.theta);
         self.n += 1.0;
+        let inv_n = 1.0 / self.n;
         let dp = p - self.mp;
-        self.mp += dp / self.n;
+        self.mp += dp * inv_n;
         let df = f - self.mf;
-        self.mf += df / self.n;
+        self.mf += df * inv_n;
         self.cpf += dp.dot(&(f - self.mf));
         self.cpp += dp.dot(&(p - self.mp));
         self.cff += df.dot(&(f - self.mf));
@@ -2972,7 +2977,7 @@ impl AttitudeFilter for Dynamic {
             }
         }
         if self.still_time == 0.0 {
-            self.rest_conf.start(&acc_f);
+            self.rest_conf.restart();
         }
         if still {
             self.rest_conf.push(&(gyr_f - self.rest_ref), &acc_f, dt);
@@ -2980,7 +2985,7 @@ impl AttitudeFilter for Dynamic {
         self.still_time = if still { self.still_time + dt } else { 0.0 };
         if self.turn_free_time == 0.0 {
             self.turn_free_ref = self.bias;
-            self.tf_conf.start(&acc_f);
+            self.tf_conf.restart();
         }
         let turn_free = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
             && (gyr_f - self.turn_free_ref).norm_squared()
