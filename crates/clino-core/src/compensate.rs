@@ -780,11 +780,17 @@ impl MountEstimator {
     /// seeds, 100 Hz): 0.088–0.109° so, 0.45–0.49° had the bias been
     /// dropped when the noise rose (0.17 m/s²).
     pub fn lever_model_holds(&self) -> bool {
-        let fixed_axis = self.noise_var < LEVER_FIXED_AXIS_M_S2 * LEVER_FIXED_AXIS_M_S2;
-        (fixed_axis
+        (self.fixed_axis()
             && (!self.opts.estimate_lever
                 || self.lever_explains().is_some_and(|f| f >= LEVER_EXPLAINS)))
             || (self.arm_given() && self.vouched)
+    }
+
+    /// Whether the blocks' learnt unexplained specific force is under
+    /// [`LEVER_FIXED_AXIS_M_S2`]: the point on the axis does not move (false
+    /// on a NaN noise).
+    fn fixed_axis(&self) -> bool {
+        self.noise_var < LEVER_FIXED_AXIS_M_S2 * LEVER_FIXED_AXIS_M_S2
     }
 
     /// An arm given, not estimated (a zero arm not estimated is no arm: the
@@ -985,7 +991,7 @@ impl MountEstimator {
         if self.arm_given()
             && self.opts.estimate_bias
             && self.seen_s >= VOUCH_SEEN_S
-            && self.noise_var < LEVER_FIXED_AXIS_M_S2 * LEVER_FIXED_AXIS_M_S2
+            && self.fixed_axis()
         {
             let half = 0.5 * self.opts.bias_sigma_m_s2;
             let sb = self.accel_bias_sigma();

@@ -2960,7 +2960,9 @@ impl AttitudeFilter for Dynamic {
                 self.arm_input_mean = self.arm_input_f;
             }
         }
-        let still = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
+        // the rate steady about its low-pass: a rest's test and a turn-free stillness's
+        let steady = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s;
+        let still = steady
             && (acc_f - self.acc_mean).norm_squared() < p.rest_acc_m_s2 * p.rest_acc_m_s2
             && (gyr_f - self.rest_ref).norm_squared() < abs_thr * abs_thr;
         if still {
@@ -2987,7 +2989,7 @@ impl AttitudeFilter for Dynamic {
             self.turn_free_ref = self.bias;
             self.tf_conf.restart();
         }
-        let turn_free = (gyr_f - self.gyr_lp).norm_squared() < p.rest_gyr_rad_s * p.rest_gyr_rad_s
+        let turn_free = steady
             && (gyr_f - self.turn_free_ref).norm_squared()
                 < TURN_FREE_GYR_RAD_S * TURN_FREE_GYR_RAD_S;
         if turn_free {
@@ -4229,6 +4231,68 @@ mod tests {
             worst = worst.max(f.gyro_bias().norm().to_degrees());
         }
         worst
+    }
+
+    #[test]
+    fn turn_confirm_is_the_regression_of_the_specific_force_on_the_turn() {
+        // A stillness of 3 s at 100 Hz whose residual rate turns p = f0 × θ
+        // by 0.3°/s: the specific force follows a share c of that turn plus
+        // an oscillation (a translation, uncorrelated with the ramp over
+        // whole periods). The share is the least-squares slope, computed
+        // here in one batch, shrunk by var(p) / (var(p) + σ²) with σ² the
+        // larger of the floor and the residual variance.
+        let (dt, n) = (0.01, 300);
+        let f0 = Vector3::new(0.3, -0.2, G0);
+        let rate = Vector3::new(0.3f64.to_radians(), 0.0, 0.0);
+        for (c, osc) in [(1.0, 0.0), (0.5, 0.0), (0.0, 0.0), (0.5, 0.05), (1.0, 0.2)] {
+            let mut tc = TurnConfirm::default();
+            let (mut ps, mut fs) = (std::vec::Vec::new(), std::vec::Vec::new());
+            let mut theta = Vector3::zeros();
+            for k in 0..n {
+                theta += rate * dt;
+                let p = f0.cross(&theta);
+                let wig = osc * (2.0 * core::f64::consts::PI * 2.0 * k as f64 * dt).sin();
+                let f = f0 + p * c + Vector3::new(wig, wig, 0.0);
+                tc.push(&rate, &f, dt);
+                ps.push(p);
+                fs.push(f);
+            }
+            let nn = n as f64;
+            let mp = ps.iter().sum::<Vector3<f64>>() / nn;
+            let mf = fs.iter().sum::<Vector3<f64>>() / nn;
+            let cov: f64 = ps
+                .iter()
+                .zip(&fs)
+                .map(|(p, f)| (p - mp).dot(&(f - mf)))
+                .sum();
+            let var: f64 = ps.iter().map(|p| (p - mp).norm_squared()).sum();
+            let fvar: f64 = fs.iter().map(|f| (f - mf).norm_squared()).sum();
+            let res = ((fvar - cov * cov / var) / nn).max(0.0);
+            let floor = TURN_CONFIRM_FLOOR_M_S2 * TURN_CONFIRM_FLOOR_M_S2;
+            let want = (cov / (var + nn * floor.max(res))).clamp(0.0, 1.0);
+            let k = tc.share();
+            std::println!("c {c} osc {osc}: k {k}, slope {}", cov / var);
+            // (Welford against the batch sums: rounding only)
+            assert!((k - want).abs() < 1e-6, "{k} against {want}");
+            // (the first sample's specific force is f0 plus the first step)
+            assert!((cov / var - c).abs() < if osc > 0.0 { 0.5 } else { 1e-9 });
+        }
+        // a turn of 0.9° over the stillness (0.15 m/s²) is resolved: most of it
+        let mut tc = TurnConfirm::default();
+        let mut theta = Vector3::zeros();
+        for _ in 0..n {
+            theta += rate * dt;
+            tc.push(&rate, &(f0 + f0.cross(&theta)), dt);
+        }
+        assert!(tc.share() > 0.7, "{}", tc.share());
+        // an absurd specific force leaves the test neutral (all bias), not NaN
+        tc.push(&rate, &Vector3::new(1e308, 0.0, 0.0), dt);
+        tc.push(&rate, &f0, dt);
+        assert_eq!(tc.share(), 0.0);
+        // restarted, the next sample starts a new stillness
+        tc.restart();
+        tc.push(&rate, &f0, dt);
+        assert_eq!(tc.share(), 0.0);
     }
 
     #[test]
