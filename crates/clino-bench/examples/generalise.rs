@@ -26,7 +26,9 @@
 //! rocking at 1.5–5 Hz with no linear sway), a sensor shaken to and fro
 //! with little rotation (BROAD's fast translations), a drum turning
 //! one way about its horizontal axis in runs and stops, and the slewing
-//! excavator (also digging from the start, which keeps every rest out), and a
+//! excavator (also digging from the start, which keeps every rest out; with
+//! its lever arm given, and without it, as a user who never measured it
+//! runs `clino fuse`), and a
 //! base precessing slowly on a cone (0.31°/s, under the rest detector's
 //! threshold), quiet or digging. The sensors: calibrated, or with one kind of error each
 //! (accelerometer scale and bias, gyro scale and bias, cross-axis terms of
@@ -513,6 +515,14 @@ enum Kind {
     /// whole body translated on an ellipse of 0.3 m/s² at 0.7 Hz,
     /// [`slewing::digging`]): its dwells never pass for rest.
     SlewingRock,
+    /// [`Kind::Slewing`] with no lever arm given to any filter: a user who
+    /// has not measured it runs `clino fuse` as it is. VQF, too, reads the
+    /// tangential and centripetal accelerations.
+    SlewingBare,
+    /// [`Kind::SlewingRock`] with no lever arm given: the machine never
+    /// rests, and nothing tells the loop the slew's centripetal
+    /// acceleration from a tilt.
+    SlewingRockBare,
     /// A base precessing on a 2° cone at 0.025 Hz: a steady turn of
     /// 0.31°/s, under the rest detector's 0.5°/s and slower than any hand
     /// (a hull's slow list, a structure drifting, a tilt table creeping),
@@ -543,6 +553,8 @@ impl Kind {
             Kind::Slewing => "slewing+lever",
             Kind::SlewingSway => "slewing+sway+lever",
             Kind::SlewingRock => "slewing+rock+lever",
+            Kind::SlewingBare => "slewing",
+            Kind::SlewingRockBare => "slewing+rock",
             Kind::Cone => "cone",
             Kind::ConeDig => "cone+dig",
         }
@@ -579,7 +591,11 @@ fn make(c: &Condition, seed: u64) -> Rec {
         )
     };
     match c.kind {
-        Kind::Slewing | Kind::SlewingSway | Kind::SlewingRock => {
+        Kind::Slewing
+        | Kind::SlewingSway
+        | Kind::SlewingRock
+        | Kind::SlewingBare
+        | Kind::SlewingRockBare => {
             let mut m = SlewingPlatform {
                 chassis_heading: 0.7 + seed as f64,
                 vibration_hz: (0.35 * c.rate).min(30.0),
@@ -594,7 +610,8 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 a: m.clone(),
                 b: slewing::digging(0.0),
             };
-            let motion: &dyn Motion = if let Kind::SlewingRock = c.kind {
+            let bare = matches!(c.kind, Kind::SlewingBare | Kind::SlewingRockBare);
+            let motion: &dyn Motion = if let Kind::SlewingRock | Kind::SlewingRockBare = c.kind {
                 &rocked
             } else {
                 &m
@@ -606,7 +623,7 @@ fn make(c: &Condition, seed: u64) -> Rec {
                 seconds,
                 seed,
                 m.initial_rest_s,
-                Some(m.lever_arm_m),
+                (!bare).then_some(m.lever_arm_m),
                 // (the lever arm is in the machine's frame: upright only)
                 Attitude::identity(),
             )
@@ -1699,6 +1716,8 @@ fn main() -> clino::Result<()> {
         (Kind::SlewingRock, Sensor::Calibrated, 50.0),
         (Kind::SlewingRock, Sensor::Bias, 50.0),
         (Kind::SlewingRock, Sensor::Bias, 200.0),
+        (Kind::SlewingBare, Sensor::Calibrated, 50.0),
+        (Kind::SlewingRockBare, Sensor::Calibrated, 50.0),
         (Kind::Cone, Sensor::Calibrated, 100.0),
         (Kind::Cone, Sensor::Calibrated, 25.0),
         (Kind::Cone, Sensor::Bias, 100.0),
@@ -1899,6 +1918,27 @@ mod tests {
             let dt = rec.samples[1].t_s - rec.samples[0].t_s;
             assert!((dt - 1.0 / rate).abs() < 1e-9, "{rate} Hz: {dt}");
             assert!(rec.lever.is_some());
+        }
+    }
+
+    #[test]
+    fn a_bare_slewing_machine_is_the_same_recording_with_no_arm_given() {
+        // the rows without the arm differ from theirs with it in what the
+        // filters are told, not in what the sensor read
+        for (given, bare) in [
+            (Kind::Slewing, Kind::SlewingBare),
+            (Kind::SlewingRock, Kind::SlewingRockBare),
+        ] {
+            let c = |kind| Condition {
+                name: String::new(),
+                kind,
+                sensor: Sensor::Calibrated,
+                rate: 25.0,
+            };
+            let (a, b) = (make(&c(given), 2), make(&c(bare), 2));
+            assert!(a.lever.is_some() && b.lever.is_none());
+            assert_eq!(a.samples.len(), b.samples.len());
+            assert!(a.samples.iter().zip(&b.samples).all(|(x, y)| x == y));
         }
     }
 }
