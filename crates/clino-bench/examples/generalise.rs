@@ -96,7 +96,8 @@
 //! 30 Hz, as on the grid's rows).
 //!
 //! `--export DIR` also writes every simulated recording but the slewing
-//! machine's (whose lever arm VQF cannot compensate offline) as a BROAD-format
+//! machine's with its lever arm given (an arm VQF cannot compensate
+//! offline; the rows without it are written) as a BROAD-format
 //! CSV (`t_s`, rate, specific force, `ref_q*` = the truth, `movement` = the
 //! scored samples, `rest`), bit-exact (shortest round-trip floats), and
 //! `DIR/index.csv` with this harness's scores of each: what
