@@ -342,12 +342,27 @@ pub struct DynamicParams {
     pub start_bandwidth_rad_s: f64,
     /// Time over which the start-up bandwidth falls to p, s. Default 3 s.
     /// Until the first rest has ended the loop runs at no less than
-    /// 1/`start_time_s`: the tilt is then only as good as the accelerometer
-    /// over the motion so far, and the 6.7-s loop, made to reject a moving
-    /// mount's accelerations once aligned, carried the start's error through
-    /// the first moves (the slow arm switched on moving: 0.23° over its first
-    /// 20 s, VQF 0.17°, now 0.13°; test
+    /// 1/max(t, `start_time_s`), t the time since power-on (or since the
+    /// gyro last clipped, [`Dynamic::note_gyro_clipped`], or since the last
+    /// short rest or held pose): the tilt is then only as good as the
+    /// accelerometer over the motion so far, whose running mean has that
+    /// gain, and the 6.7-s loop, made to reject a moving mount's
+    /// accelerations once aligned, carried the start's error through the
+    /// first moves (the slow arm switched on moving: 0.23° over its first
+    /// 20 s, VQF 0.17°, now 0.12°; test
     /// `a_sensor_switched_on_in_motion_aligns_before_its_first_rest`).
+    ///
+    /// The floor falls to the design bandwidth p₀ (6.7 s) in unless the
+    /// accelerometer is seen still again (a short rest, a held pose): held
+    /// at 1/`start_time_s` until a rest, a mount that never rests ran its
+    /// whole recording at twice the design bandwidth, and a machine digging
+    /// from the start without its lever arm, whose accelerometer is never
+    /// still, passed its slews' accelerations into the tilt (6.27° against
+    /// VQF's 2.59°, now 2.30°; BENCHMARKS.md). A mount seen still now and
+    /// then has its accelerometer confirmed there, and keeps the floor: on
+    /// a base rocking under the slow arm the fall alone cost 0.85 → 0.89×
+    /// VQF (a ±2 % gyro 0.77 → 0.90×), the slow arm switched on moving
+    /// 0.12° → 0.15° over its first 20 s.
     pub start_time_s: f64,
     /// Coarse alignment: during the first rest after power-on, until this much
     /// of it has been seen, the tilt is also pulled to the accelerometer at
@@ -604,6 +619,10 @@ pub struct Dynamic {
     /// Coarse alignment is over: the first rest after power-on has ended, or
     /// `alignment_s` of it have been seen.
     aligned: bool,
+    /// Time since the alignment was lost (power-on, a clipped gyro) while it
+    /// has not been regained, or since the last short rest or held pose
+    /// before that, s; 0 while aligned ([`DynamicParams::start_time_s`]).
+    unaligned_s: f64,
     /// The gyro read at its full-scale range since the last rest
     /// ([`Dynamic::note_gyro_clipped`]): the loop's corrections are then the
     /// clipping's missing angle, not a rate error, and teach nothing.
@@ -2353,6 +2372,7 @@ impl Dynamic {
             rested_once: false,
             rest_learnt_s: 0.0,
             aligned: false,
+            unaligned_s: 0.0,
             clip_hold: false,
             clip_realign: false,
             acc_clip_time: 0.0,
@@ -2704,7 +2724,8 @@ impl Dynamic {
     /// the rate was larger than the reading, and the propagation falls short
     /// of the turn by an angle nobody measured. The filter then does what it
     /// does at power-on, whose attitude is as unknown: the loop runs at no
-    /// less than 1/`start_time_s` and the next rest proper aligns at
+    /// less than 1/max(t, `start_time_s`), t the time since the clipping,
+    /// and the next rest proper aligns at
     /// `start_bandwidth_rad_s`; the next short rest or held pose pulls at
     /// full weight (`CLIPPED_TILT_SIGMA_RAD`); no rest pair spans the
     /// clipping (its miss is not a scale error) and the loop's corrections
@@ -2715,6 +2736,7 @@ impl Dynamic {
         }
         self.gsl.active = false;
         self.aligned = false;
+        self.unaligned_s = 0.0;
         self.rest_learnt_s = 0.0;
         self.clip_hold = true;
         self.clip_realign = true;
@@ -2809,8 +2831,11 @@ impl Dynamic {
             bw = p.start_bandwidth_rad_s * (1.0 - f) + bw * f;
         }
         if !self.aligned {
-            // before the first rest: at least the start-up's own time constant
-            bw = bw.max(self.inv.start_time);
+            // before the first rest: at least the running mean of the
+            // accelerometer's tilt since the alignment was lost, and never
+            // more than the start-up's own time constant
+            // ([`DynamicParams::start_time_s`])
+            bw = bw.max(1.0 / self.unaligned_s.max(p.start_time_s));
         }
         bw
     }
@@ -2873,6 +2898,14 @@ impl AttitudeFilter for Dynamic {
         }
         let p = &self.params;
         self.time += dt;
+        // (a short rest or a held pose seen: the accelerometer was still, and
+        // the floor starts its fall again from there)
+        let still_seen = self.gsl.quick_time > QUICK_SETTLE_S || self.gsl.held_time > QUICK_MIN_S;
+        self.unaligned_s = if self.aligned || still_seen {
+            0.0
+        } else {
+            self.unaligned_s + dt
+        };
 
         // --- rest detection on the vibration-filtered rate and specific force
         // Recomputed only when dt moves by more than 1 ppm: time stamps jitter
@@ -4347,6 +4380,71 @@ mod tests {
             pulled > 0.6 && pulled < 0.75,
             "{pulled}° with the rest pull, {worst}° without"
         );
+    }
+
+    #[test]
+    fn the_loop_leaves_the_start_up_bandwidth_as_the_running_mean_would() {
+        // A mount that never rests (a level turntable at 0.5 rad/s, 100 Hz):
+        // until the first rest the loop runs at no less than 1/t since the
+        // alignment was lost, the start-up's 1/start_time_s at most, so it
+        // reaches the design bandwidth (p₀·√(1 + |ω|/ω_s), 0.17 rad/s here)
+        // 6 s in and stays there; a clipped gyro loses the alignment again
+        // and a short rest shows the accelerometer still: each starts the
+        // same fall from there. (Until 7 Dec 2026 the floor
+        // held at 1/start_time_s until a rest: a machine digging from the
+        // start ran at 0.33 rad/s for its whole recording.)
+        let p = DynamicParams::default();
+        let dt = 0.01;
+        let mut f = Dynamic::default();
+        let w = Vector3::new(0.0, 0.0, 0.5);
+        let acc = Vector3::new(0.0, 0.0, G0);
+        let design =
+            |f: &Dynamic| p.bandwidth_rad_s * (1.0 + f.rate_lp / p.scale_rate_rad_s).sqrt();
+        let at = |f: &mut Dynamic, from: f64, to: f64| {
+            let (mut t, mut seen) = (from, std::vec::Vec::new());
+            while t < to - 1e-9 {
+                f.update(w, acc, dt);
+                t += dt;
+                seen.push((t, f.bandwidth(), design(f)));
+            }
+            seen
+        };
+        for (t, bw, d) in at(&mut f, 0.0, 30.0) {
+            assert!(!f.aligned);
+            if t > 3.0 + 2.0 * dt {
+                // the running mean since power-on, or the design's where larger
+                let want = (1.0 / (t - dt)).max(d);
+                assert!(
+                    (bw - want).abs() < 0.01 * want,
+                    "t {t}: {bw} against {want}"
+                );
+            } else if t > 2.0 * dt && t < 3.0 - dt {
+                assert!(bw >= 1.0 / 3.0 - 1e-9, "t {t}: {bw}");
+            }
+        }
+        let settled = f.bandwidth();
+        assert!(
+            (settled - design(&f)).abs() < 1e-12 && settled < 0.2,
+            "{settled}"
+        );
+        // the gyro clipped: the floor is back at the start-up's and falls again
+        f.note_gyro_clipped();
+        let after = at(&mut f, 30.0, 40.0);
+        assert!(after[10].1 >= 1.0 / 3.0 - 1e-9, "{:?}", after[10]);
+        let (t, bw, d) = after[after.len() - 1];
+        assert!(
+            (bw - (1.0 / (t - 30.0 - dt)).max(d)).abs() < 0.01 * bw,
+            "t {t}: {bw}"
+        );
+        // held still for a moment (a held pose, not yet a rest proper; no
+        // short rest before a first rest): the accelerometer was seen still,
+        // and the fall starts again
+        assert!(bw < 0.2, "{bw}");
+        for _ in 0..60 {
+            f.update(Vector3::zeros(), acc, dt);
+        }
+        assert!(!f.aligned && f.gsl.held_time > QUICK_MIN_S);
+        assert!(f.bandwidth() >= 1.0 / 3.0 - 1e-9, "{}", f.bandwidth());
     }
 
     #[test]
