@@ -2831,10 +2831,10 @@ impl Dynamic {
             bw = p.start_bandwidth_rad_s * (1.0 - f) + bw * f;
         }
         if !self.aligned {
-            // before the first rest: at least the running mean of the
-            // accelerometer's tilt since the alignment was lost, and never
-            // more than the start-up's own time constant
-            // ([`DynamicParams::start_time_s`])
+            // before the first rest: at least the gain 1/t of the running
+            // mean of the accelerometer's tilt since the alignment was lost
+            // or the accelerometer was last seen still, and no more than the
+            // start-up's 1/start_time_s ([`DynamicParams::start_time_s`])
             bw = bw.max(1.0 / self.unaligned_s.max(p.start_time_s));
         }
         bw
@@ -4388,8 +4388,8 @@ mod tests {
         // until the first rest the loop runs at no less than 1/t since the
         // alignment was lost, the start-up's 1/start_time_s at most, so it
         // reaches the design bandwidth (p₀·√(1 + |ω|/ω_s), 0.17 rad/s here)
-        // 6 s in and stays there; a clipped gyro loses the alignment again
-        // and a short rest shows the accelerometer still: each starts the
+        // 6 s in and stays there; a clipped gyro loses the alignment again,
+        // and a held pose shows the accelerometer still: each starts the
         // same fall from there. (Until 7 Dec 2026 the floor
         // held at 1/start_time_s until a rest: a machine digging from the
         // start ran at 0.33 rad/s for its whole recording.)
