@@ -362,7 +362,9 @@ pub struct DynamicParams {
     /// then has its accelerometer confirmed there, and keeps the floor: on
     /// a base rocking under the slow arm the fall alone cost 0.85 → 0.89×
     /// VQF (a ±2 % gyro 0.77 → 0.90×), the slow arm switched on moving
-    /// 0.12° → 0.15° over its first 20 s.
+    /// 0.12° → 0.15° over its first 20 s. At 0 there is no start-up: no
+    /// falling bandwidth, no pull and no floor (the floor, 1/`start_time_s`,
+    /// was infinite and the attitude NaN from the first sample).
     pub start_time_s: f64,
     /// Coarse alignment: during the first rest after power-on, until this much
     /// of it has been seen, the tilt is also pulled to the accelerometer at
@@ -2830,7 +2832,7 @@ impl Dynamic {
             let f = self.time * self.inv.start_time;
             bw = p.start_bandwidth_rad_s * (1.0 - f) + bw * f;
         }
-        if !self.aligned {
+        if !self.aligned && p.start_time_s > 0.0 {
             // before the first rest: at least the gain 1/t of the running
             // mean of the accelerometer's tilt since the alignment was lost
             // or the accelerometer was last seen still, and no more than the
@@ -4445,6 +4447,33 @@ mod tests {
         }
         assert!(!f.aligned && f.gsl.held_time > QUICK_MIN_S);
         assert!(f.bandwidth() >= 1.0 / 3.0 - 1e-9, "{}", f.bandwidth());
+    }
+
+    #[test]
+    fn a_start_time_of_zero_is_no_start_up() {
+        // `start_time_s` = 0 (allowed: no start-up) made the floor before a
+        // first rest 1/0, and the attitude NaN from the first sample (the
+        // fixed floor of before 7 Dec 2026 as much as its 1/t); it now has
+        // no floor. A level mount turning, held still for a second (a held
+        // pose), turning again, then still.
+        let mut f = Dynamic::new(DynamicParams {
+            start_time_s: 0.0,
+            ..DynamicParams::default()
+        });
+        let dt = 0.01;
+        let acc = Vector3::new(0.0, 0.0, G0);
+        for k in 0..3000 {
+            let t = k as f64 * dt;
+            let w = if (5.0..6.0).contains(&t) || t > 20.0 {
+                Vector3::zeros()
+            } else {
+                Vector3::new(0.0, 0.0, 0.5)
+            };
+            f.update(w, acc, dt);
+            assert!(f.bandwidth().is_finite(), "t {t}");
+            let q = f.attitude();
+            assert!(q.coords.iter().all(|v| v.is_finite()), "t {t}: {q:?}");
+        }
     }
 
     #[test]
