@@ -1474,6 +1474,13 @@ impl ScaleLearner {
         if w.is_finite() { w } else { 0.0 }
     }
 
+    /// A short rest past its settling or a held pose: the accelerometer is
+    /// seen still, short of a rest proper (the rest pull acts there; the
+    /// start-up floor falls again from there, [`DynamicParams::start_time_s`]).
+    fn seen_still(&self) -> bool {
+        self.quick_time > QUICK_SETTLE_S || self.held_time > QUICK_MIN_S
+    }
+
     /// The gyro scale's remaining 1σ per axis: the prior mixture's σ₀/√2
     /// before the first rest pair, then the learnt one.
     fn scale_sigma(&self, p: &DynamicParams) -> Vec3 {
@@ -2902,8 +2909,7 @@ impl AttitudeFilter for Dynamic {
         self.time += dt;
         // (a short rest or a held pose seen: the accelerometer was still, and
         // the floor starts its fall again from there)
-        let still_seen = self.gsl.quick_time > QUICK_SETTLE_S || self.gsl.held_time > QUICK_MIN_S;
-        self.unaligned_s = if self.aligned || still_seen {
+        self.unaligned_s = if self.aligned || self.gsl.seen_still() {
             0.0
         } else {
             self.unaligned_s + dt
@@ -3435,9 +3441,7 @@ impl AttitudeFilter for Dynamic {
             // start-up bandwidth, short rests and held poses get it too)
             if p.rest_pull_rad_s > 0.0
                 && (self.aligned || !self.rest)
-                && (self.rest
-                    || self.gsl.quick_time > QUICK_SETTLE_S
-                    || self.gsl.held_time > QUICK_MIN_S)
+                && (self.rest || self.gsl.seen_still())
             {
                 let f = if self.rest {
                     self.acc_mean
