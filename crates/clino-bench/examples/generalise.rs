@@ -406,9 +406,9 @@ impl Sensor {
     /// errors point wherever they point, is scored as well as the one
     /// vector the defaults were looked at on.
     fn model(self, rate: f64, draw: Option<u64>) -> ImuModel {
-        let v = |salt: u64, x: Vec3| draw.map_or(x, |seed| signed_permutation(x, seed, salt));
+        let v = |salt: u64, e: Vec3| draw.map_or(e, |seed| signed_permutation(e, seed, salt));
         let x =
-            |salt: u64, x: Matrix3<f64>| draw.map_or(x, |seed| shuffled_cross_axis(x, seed, salt));
+            |salt: u64, e: Matrix3<f64>| draw.map_or(e, |seed| shuffled_cross_axis(e, seed, salt));
         let mut m = slewing::sensor();
         // the sensor's anti-alias filter follows its output rate (DLPF ≤ 0.4·f_s)
         m = m.with_bandwidth((0.4 * rate).min(98.0));
@@ -800,11 +800,16 @@ fn slewing_estimates(seeds: Seeds, dynamic: &FilterSpec, rates: &[f64]) {
 /// [`slewing_estimates`] on one slewing machine.
 fn slewing_table(seeds: Seeds, dynamic: &FilterSpec, kind: Kind, rate: f64) {
     println!(
-        "\nslewing machine{}, accelerometer bias (7, -10, 5) mg, {rate} Hz, 120 s: inclination RMSE, final estimates",
+        "\nslewing machine{}, accelerometer bias {}, {rate} Hz, 120 s: inclination RMSE, final estimates",
         if let Kind::SlewingSway = kind {
             " with its boom swaying at 1.5-4.5 Hz (1 m/s², 1°/s)"
         } else {
             ""
+        },
+        if seeds.draw {
+            "of the sizes of (7, -10, 5) mg, on axes and with signs drawn per seed"
+        } else {
+            "(7, -10, 5) mg"
         }
     );
     println!(
@@ -973,7 +978,7 @@ fn delay_table(seeds: Seeds, dynamic: &FilterSpec) {
             sensor: Sensor::Calibrated,
             rate,
         };
-        let recs: Vec<Rec> = (seeds.range()).map(|seed| seeds.make(&c, seed)).collect();
+        let recs: Vec<Rec> = seeds.range().map(|seed| seeds.make(&c, seed)).collect();
         for delay in [0.0, SIMULATED, 1.2] {
             let mut given = *dynamic;
             if let FilterSpec::Dynamic(p) = &mut given {
@@ -1148,7 +1153,7 @@ the rest pairs' learner: inclination RMSE ratio to VQF, mean (worst recording)"
             sensor,
             rate,
         };
-        let recs: Vec<Rec> = (seeds.range()).map(|seed| seeds.make(&c, seed)).collect();
+        let recs: Vec<Rec> = seeds.range().map(|seed| seeds.make(&c, seed)).collect();
         let v: Vec<f64> = recs.iter().map(|r| rmse(r, &run_vqf(r))).collect();
         let v_mean = v.iter().sum::<f64>() / seeds.n as f64;
         print!("{:<28}{v_mean:>8.3}", format!("{} ({seeds})", c.name));
@@ -1711,6 +1716,12 @@ fn main() -> clino::Result<()> {
             }
         }
         i += 1;
+    }
+    if seeds.first.checked_add(seeds.n - 1).is_none() {
+        return Err(clino::Error::new(
+            clino::ErrorKind::InvalidInput,
+            "--first-seed: the last seed would be past 2^64 - 1",
+        ));
     }
     let mut filters: Vec<FilterSpec> = vec![dynamic];
     for k in [

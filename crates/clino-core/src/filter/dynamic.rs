@@ -201,8 +201,8 @@
 //!   force in the navigation frame with the same notch (there gravity does
 //!   not turn with a held pose, so the notch's delay does not lag it): on
 //!   the sample itself the sway came through the pull into the tilt, the
-//!   slow arm on a boom swaying at 1.6–2 Hz 1.4–1.6× VQF's error on its
-//!   worst recordings ([`DynamicParams::rest_pull_rad_s`]).
+//!   slow arm on a boom swaying at 1.95 Hz 1.4–1.6× VQF's error
+//!   ([`DynamicParams::rest_pull_rad_s`]).
 //!
 //! * **Lost samples.** A step longer than 1.5 sample periods bridges a gap
 //!   (a radio link's dropouts, rows rejected as non-finite): the rate is
@@ -3514,14 +3514,14 @@ impl AttitudeFilter for Dynamic {
                 // sway notched out, in the navigation frame (`nav_notched`,
                 // [`Sway::notch_nav`]). On the sample itself the sway's
                 // linear acceleration (1.5 m/s² at 1.5–5 Hz) came through a
-                // pull of 0.3 rad/s at 1–3 % into the tilt, and at 1.6–2 Hz
-                // the slow arm on a boom was up to 1.4–1.6× VQF's error
+                // pull of 0.3 rad/s at 1–3 % into the tilt, and at 1.95 Hz
+                // the slow arm on a boom was 1.4–1.6× VQF's error
                 // (`generalise --first-seed 101 --draw-errors`), though the
                 // weight was held at the prior's while a sway was notched
                 // (what the pairs learn of the accelerometer does not bound
                 // a sway). With the sway out of what it pulls on, the
                 // learnt weight holds there as anywhere (the boom's rows
-                // 0.01–0.04× better than with the prior's). A rest proper
+                // up to 0.04× better than with the prior's). A rest proper
                 // pulls on the stillness's mean, which the sway averages
                 // out of.
                 let trust = self.gsl.rest_trust(p, &f);
