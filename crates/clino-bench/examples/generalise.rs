@@ -2010,6 +2010,36 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_seeds_flags_change_the_recordings() {
+        // --first-seed: the seeds from it; --draw-errors: the same seed's
+        // recording with its sensor's errors drawn reads differently
+        let s = Seeds {
+            first: 101,
+            n: 3,
+            draw: false,
+        };
+        assert_eq!(s.range().collect::<Vec<_>>(), vec![101, 102, 103]);
+        let c = Condition {
+            name: "hand@40Hz acc-bias10mg".into(),
+            kind: Kind::Hand,
+            sensor: Sensor::Bias,
+            rate: 40.0,
+        };
+        let plain = s.make(&c, 101);
+        let drawn = Seeds { draw: true, ..s }.make(&c, 101);
+        assert_eq!(plain.samples.len(), drawn.samples.len());
+        assert_eq!(plain.truth, drawn.truth, "the same motion");
+        let differs = plain
+            .samples
+            .iter()
+            .zip(&drawn.samples)
+            .any(|(a, b)| a.acc_m_s2 != b.acc_m_s2);
+        assert!(differs, "the drawn bias is not in the readings");
+        // another seed, another motion
+        assert_ne!(s.make(&c, 102).truth, plain.truth);
+    }
+
+    #[test]
     fn drawn_sensor_errors_keep_their_sizes_and_change_their_directions() {
         // without a draw, the one vector the defaults were looked at on
         let fixed = Sensor::Bias.model(100.0, None).accel.bias;

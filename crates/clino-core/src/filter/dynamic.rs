@@ -1950,6 +1950,16 @@ const SWAY_RETUNE: f64 = 0.01;
 /// so a frequency measured 20 % off is still taken down fourfold.
 const SWAY_Q: f64 = 0.7;
 
+/// One step of the biquad `c` ([b0, b1, b2, a1, a2], a0 = 1) on each
+/// component of `x`, direct form II transposed, states `st`.
+fn biquad(c: &[f64; 5], st: &mut [Vec3; 2], x: &Vec3) -> Vec3 {
+    let [b0, b1, b2, a1, a2] = *c;
+    let y = x * b0 + st[0];
+    st[0] = x * b1 - y * a1 + st[1];
+    st[1] = x * b2 - y * a2;
+    y
+}
+
 /// A structure's sway under a still mount (a boom or a mast at its first
 /// mode, 1.5–5 Hz) passes the rest detector's vibration low-pass above the
 /// rest thresholds, and no rest is found. The sway is measured behind that
@@ -1992,8 +2002,8 @@ struct Sway {
     g: [Vec3; 2],
     a: [Vec3; 2],
     /// The same for the specific force in the navigation frame (ENU), and
-    /// whether they have been set from a first sample since the notch was
-    /// put in.
+    /// whether they have been set from a first sample since the notch last
+    /// started running ([`Sway::notch_nav`]).
     nav: [Vec3; 2],
     nav_set: bool,
     /// The notch runs (a sway is measured), and since when, s; its output
@@ -2049,26 +2059,27 @@ impl Sway {
     fn settle(&mut self, gyr: &Vec3, acc: &Vec3) {
         self.g = self.steady(gyr);
         self.a = self.steady(acc);
-        self.nav_set = false;
     }
 
-    /// The specific force in the navigation frame `f` with the sway notched
-    /// out, once the notch is in use (`None` before). In that frame gravity
-    /// does not turn with the mount: in the body frame a held pose turning at
-    /// 0.3 rad/s turns gravity through the notch's group delay at low
-    /// frequencies, 1/(2πf₀·Q) (0.11 s at 2 Hz), and the pull would follow a
-    /// gravity direction lagging by 2°. The states start as for a steady
-    /// input at the first sample after the notch is put in.
-    fn notch_nav(&mut self, f: &Vec3) -> Option<Vec3> {
+    /// The specific force in the navigation frame `f` (asked for only while
+    /// the notch runs) with the sway notched out, once the notch is in use
+    /// (`None` before). In that frame gravity does not turn with the mount:
+    /// in the body frame a held pose turning at 0.3 rad/s turns gravity
+    /// through the notch's group delay at low frequencies, 1/(2πf₀·Q)
+    /// (0.11 s at 2 Hz), and the pull would follow a gravity direction
+    /// lagging by 2°. The states start as for a steady input at the first
+    /// sample the notch runs on.
+    fn notch_nav(&mut self, f: impl FnOnce() -> Vec3) -> Option<Vec3> {
+        if !self.running {
+            self.nav_set = false;
+            return None;
+        }
+        let f = f();
         if !self.nav_set {
-            self.nav = self.steady(f);
+            self.nav = self.steady(&f);
             self.nav_set = true;
         }
-        let [b0, b1, b2, a1, a2] = self.c;
-        let st = &mut self.nav;
-        let y = f * b0 + st[0];
-        st[0] = f * b1 - y * a1 + st[1];
-        st[1] = f * b2 - y * a2;
+        let y = biquad(&self.c, &mut self.nav, &f);
         self.on.then_some(y)
     }
 
@@ -2078,22 +2089,11 @@ impl Sway {
         if !self.running {
             return (*gyr, *acc);
         }
-        let [b0, b1, b2, a1, a2] = self.c;
-        let mut out = [Vec3::zeros(); 2];
-        for (k, (st, x)) in [(&mut self.g, gyr), (&mut self.a, acc)]
-            .into_iter()
-            .enumerate()
-        {
-            let y = x * b0 + st[0];
-            st[0] = x * b1 - y * a1 + st[1];
-            st[1] = x * b2 - y * a2;
-            out[k] = y;
-        }
-        if self.on {
-            (out[0], out[1])
-        } else {
-            (*gyr, *acc)
-        }
+        let out = (
+            biquad(&self.c, &mut self.g, gyr),
+            biquad(&self.c, &mut self.a, acc),
+        );
+        if self.on { out } else { (*gyr, *acc) }
     }
 
     /// Measure the sway on the specific force through the detector's two
@@ -3379,33 +3379,20 @@ impl AttitudeFilter for Dynamic {
         let r10 = 2.0 * (qx * qy + qw * qz);
         let r11 = 1.0 - 2.0 * (qx * qx + qz * qz);
         let r12 = 2.0 * (qy * qz - qw * qx);
+        // (and the third, the up row, where a vector's up component is needed)
+        let r20 = 2.0 * (qx * qz - qw * qy);
+        let r21 = 2.0 * (qy * qz + qw * qx);
+        let r22 = 1.0 - 2.0 * (qx * qx + qy * qy);
         let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
         let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
+        let up = |v: &Vec3| r20 * v.x + r21 * v.y + r22 * v.z;
         // the specific force in ENU with a sway notched out (what a short
         // rest's or a held pose's pull acts on while a base sways)
-        let nav_notched = if self.sway.running {
-            let fu = 2.0 * (qx * qz - qw * qy) * acc.x
-                + 2.0 * (qy * qz + qw * qx) * acc.y
-                + (1.0 - 2.0 * (qx * qx + qy * qy)) * acc.z;
-            self.sway.notch_nav(&Vec3::new(fe, fnn, fu))
-        } else {
-            self.sway.nav_set = false;
-            None
-        };
+        let nav_notched = self.sway.notch_nav(|| Vec3::new(fe, fnn, up(&acc)));
 
         // a gyro-bias offset B·δ turns the attitude by −R·B·δ·dt
         if self.sens.is_some() || self.arm.is_some() {
-            let rot = nalgebra::Matrix3::new(
-                r00,
-                r01,
-                r02,
-                r10,
-                r11,
-                r12,
-                2.0 * (qx * qz - qw * qy),
-                2.0 * (qy * qz + qw * qx),
-                1.0 - 2.0 * (qx * qx + qy * qy),
-            );
+            let rot = nalgebra::Matrix3::new(r00, r01, r02, r10, r11, r12, r20, r21, r22);
             for sn in [&mut self.sens, &mut self.arm].into_iter().flatten() {
                 sn.phi -= rot * (sn.bias + nalgebra::Matrix3::from_diagonal(&w) * sn.scale) * dt;
             }
@@ -3550,15 +3537,15 @@ impl AttitudeFilter for Dynamic {
             }
             let ks = pull * dt * self.inv.gravity;
             // the rest's mean in ENU (E, N, U), as the sample's fe, fnn, fu
-            let pull_nav = pull_sway.map(|f| (f.x, f.y, f.z)).or(f_pull.map(|f: Vec3| {
-                (
-                    r00 * f.x + r01 * f.y + r02 * f.z,
-                    r10 * f.x + r11 * f.y + r12 * f.z,
-                    2.0 * (qx * qz - qw * qy) * f.x
-                        + 2.0 * (qy * qz + qw * qx) * f.y
-                        + (1.0 - 2.0 * (qx * qx + qy * qy)) * f.z,
-                )
-            }));
+            let pull_nav = pull_sway.map(|f| (f.x, f.y, f.z)).or_else(|| {
+                f_pull.map(|f: Vec3| {
+                    (
+                        r00 * f.x + r01 * f.y + r02 * f.z,
+                        r10 * f.x + r11 * f.y + r12 * f.z,
+                        up(&f),
+                    )
+                })
+            });
             if pull > 0.0 {
                 let (pe, pn) = pull_nav.map_or((fe, fnn), |(e, n, _)| (e, n));
                 cx += ks * pn;
@@ -3566,9 +3553,7 @@ impl AttitudeFilter for Dynamic {
             }
             kc = (cx, cy);
             if self.sens.is_some() || self.arm.is_some() {
-                let fu = 2.0 * (qx * qz - qw * qy) * acc.x
-                    + 2.0 * (qy * qz + qw * qx) * acc.y
-                    + (1.0 - 2.0 * (qx * qx + qy * qy)) * acc.z;
+                let fu = up(&acc);
                 let rows = [[r00, r01, r02], [r10, r11, r12]];
                 let learn = learning.as_ref();
                 let f_nav = (fe, fnn, fu);
@@ -4663,6 +4648,33 @@ mod tests {
     }
 
     #[test]
+    fn the_sway_notch_delays_what_is_below_it_by_its_group_delay() {
+        // Below its band the notch H(s) = (s² + ω₀²)/(s² + (ω₀/Q)·s + ω₀²)
+        // has unit gain and phase −ω/(Q·ω₀): a ramp comes out steady and
+        // 1/(Q·ω₀) late (0.114 s at 2 Hz, Q = 0.7). In the body frame a held
+        // pose turning at 0.3 rad/s turns gravity through that delay, which
+        // is why the pull's notch is in the navigation frame (`notch_nav`).
+        for (f0, dt) in [(2.0, 0.008), (1.5, 0.04), (5.0, 0.001)] {
+            let mut sw = Sway::new();
+            sw.tune(f0, dt);
+            sw.running = true;
+            sw.on = true;
+            let n = (20.0 / dt) as usize;
+            let mut late = 0.0;
+            for k in 0..n {
+                let t = k as f64 * dt;
+                let y = sw.notch_nav(|| Vector3::new(t, 0.0, 0.0)).unwrap();
+                late = t - y.x;
+            }
+            let want = 1.0 / (SWAY_Q * core::f64::consts::TAU * f0);
+            assert!(
+                (late - want).abs() < 0.02 * want,
+                "f0 {f0}, dt {dt}: {late} s against {want} s"
+            );
+        }
+    }
+
+    #[test]
     fn the_sway_notch_has_the_closed_form_response() {
         // The bilinear transform, prewarped at f₀, of H(s) = (s² + 1)/(s² + s/Q + 1):
         // at f the digital notch has the analog gain at r = tan(πf·dt)/tan(πf₀·dt),
@@ -4688,13 +4700,16 @@ mod tests {
                 sw.running = true;
                 sw.on = true;
                 let w = core::f64::consts::TAU * f;
-                // run 40 periods, take the amplitude over the last 10
+                // run 40 periods, take the amplitude over the last 10; the
+                // navigation frame's notch (what the pull acts on) is the
+                // same filter
                 let n = ((40.0 / f) / dt) as usize;
                 let tail = ((10.0 / f) / dt) as usize;
                 let mut peak: f64 = 0.0;
                 for k in 0..n {
                     let u = Vector3::new((w * k as f64 * dt).sin(), 0.0, 0.0);
                     let (y, _) = sw.notch(&u, &Vector3::zeros());
+                    assert_eq!(sw.notch_nav(|| u), Some(y), "f0 {f0}, f {f}, step {k}");
                     if k >= n - tail {
                         peak = peak.max(y.x.abs());
                     }
