@@ -3379,19 +3379,29 @@ impl AttitudeFilter for Dynamic {
         let r10 = 2.0 * (qx * qy + qw * qz);
         let r11 = 1.0 - 2.0 * (qx * qx + qz * qz);
         let r12 = 2.0 * (qy * qz - qw * qx);
-        // (and the third, the up row, where a vector's up component is needed)
-        let r20 = 2.0 * (qx * qz - qw * qy);
-        let r21 = 2.0 * (qy * qz + qw * qx);
-        let r22 = 1.0 - 2.0 * (qx * qx + qy * qy);
+        // (and the third, the up row, only where a vector's up component is
+        // needed: in f64 on a Cortex-M4F each product is a library call, and
+        // computed at every sample it cost about 600 instructions per update)
+        let up_row = || {
+            [
+                2.0 * (qx * qz - qw * qy),
+                2.0 * (qy * qz + qw * qx),
+                1.0 - 2.0 * (qx * qx + qy * qy),
+            ]
+        };
         let fe = r00 * acc.x + r01 * acc.y + r02 * acc.z;
         let fnn = r10 * acc.x + r11 * acc.y + r12 * acc.z;
-        let up = |v: &Vec3| r20 * v.x + r21 * v.y + r22 * v.z;
+        let up = |v: &Vec3| {
+            let [r20, r21, r22] = up_row();
+            r20 * v.x + r21 * v.y + r22 * v.z
+        };
         // the specific force in ENU with a sway notched out (what a short
         // rest's or a held pose's pull acts on while a base sways)
         let nav_notched = self.sway.notch_nav(|| Vec3::new(fe, fnn, up(&acc)));
 
         // a gyro-bias offset B·δ turns the attitude by −R·B·δ·dt
         if self.sens.is_some() || self.arm.is_some() {
+            let [r20, r21, r22] = up_row();
             let rot = nalgebra::Matrix3::new(r00, r01, r02, r10, r11, r12, r20, r21, r22);
             for sn in [&mut self.sens, &mut self.arm].into_iter().flatten() {
                 sn.phi -= rot * (sn.bias + nalgebra::Matrix3::from_diagonal(&w) * sn.scale) * dt;
