@@ -2127,8 +2127,8 @@ impl Sway {
     /// one stage holds more of a slow motion's changes than the specific
     /// force's two (an arm easing into a held pose at 0.5°/s is as large
     /// as the rocking, against its threshold), and a frequency measured on
-    /// both together was 13 % low on a boom swaying at 4.7 Hz (the slow arm
-    /// on a boom, `generalise`: 0.64 → 0.69× VQF, worst 0.96 → 1.40).
+    /// both together was 12–15 % low on a boom swaying at 4.6 Hz (the slow
+    /// arm on a boom, `generalise`: 0.64 → 0.69× VQF, worst 0.96 → 1.40).
     #[allow(clippy::too_many_arguments)]
     fn measure(
         &mut self,
@@ -2165,8 +2165,9 @@ impl Sway {
         // measure goes back to where it stood at least SWAY_CALM_S before
         // (marks every SWAY_CALM_S of calm). The specific force's is left
         // as it is: against its threshold a motion's start is small (taken
-        // back as well, the slow arm on a boom moved by ±0.1 offline both
-        // ways and the slewing machine's estimated arm by centimetres).
+        // back as well: nothing gained in real time, the boom's offline
+        // rows moved both ways, and the slewing machine's estimated arm by
+        // tens of centimetres in the height slewing does not show).
         if calm {
             self.since_mark += dt;
             if self.since_mark >= SWAY_CALM_S {
@@ -3146,6 +3147,13 @@ impl AttitudeFilter for Dynamic {
         };
         let was_rest = self.rest;
         self.rest = self.still_time > p.rest_time_s;
+        // at a rest, the share of its residual turn the specific force
+        // confirms (for the pull and the bias, below)
+        let rest_share = if self.rest {
+            self.rest_conf.share()
+        } else {
+            0.0
+        };
         self.turn_free = !self.rest && self.turn_free_time > p.rest_time_s;
         if (was_rest && !self.rest) || self.rest_learnt_s >= p.alignment_s {
             self.aligned = true;
@@ -3600,7 +3608,8 @@ impl AttitudeFilter for Dynamic {
                     // for this sample's: a mount turning slower than the rest
                     // threshold (a base precessing on a 2° cone at 0.025 Hz,
                     // 0.31°/s) was pulled toward where it had been, up to a
-                    // window (5 s) before, and held 0.33° behind. So the mean
+                    // window (5 s) before, and held behind (0.33° RMS on the
+                    // cone at 100 Hz, `fusion.rs`). So the mean
                     // is carried to this sample's body by the turn since the
                     // mean attitude (`still_mean`, shifted by the low-pass's
                     // delay as where a rest pair ends), by the share of that
@@ -3612,7 +3621,7 @@ impl AttitudeFilter for Dynamic {
                     // 0.27× VQF's error.
                     if self.rest {
                         let dev = self.still_mean.lagged(cascade_delay(dt, k_vib2, false));
-                        f_pull = Some(turned_over(&f, &(dev * self.rest_conf.share()), 1.0));
+                        f_pull = Some(turned_over(&f, &(dev * rest_share), 1.0));
                     } else {
                         pull_sway = nav_notched;
                     }
@@ -3728,7 +3737,7 @@ impl AttitudeFilter for Dynamic {
             self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
             let w = dt / self.bias_info_s;
             let (k, rf) = if self.rest {
-                (self.rest_conf.share(), self.rest_ref)
+                (rest_share, self.rest_ref)
             } else {
                 (self.tf_conf.share(), self.turn_free_ref)
             };
@@ -4708,9 +4717,10 @@ mod tests {
         // again. The first rest is found under the start-up threshold
         // (20°/s); after it the rocking passes the rate's vibration
         // low-pass at 0.6–0.9°/s, over the 0.5°/s threshold, and no rest
-        // was found again (this test on that code: no rest after the tilt,
-        // the sway not measured). The sway measured on the rate as well,
-        // and notched, the still base is a rest again.
+        // was found again (this test on that code, at 1.6 Hz: no rest after
+        // the tilt, no sway measured, the tilt 0.148° off at the end). The
+        // sway measured on the rate as well, and notched, the still base is
+        // a rest again (the tilt within 0.03°).
         let dt = 0.008;
         let base = 10f64.to_radians();
         let bias = Vector3::new(0.1, -0.08, 0.05).map(f64::to_radians);
