@@ -111,7 +111,12 @@
 //!   (1.87× VQF's error; VQF 0.59°) → 0.34° (0.58×); while digging 0.70°
 //!   (1.91×) → 0.13° (0.36×); every other grid row within 0.02 of its
 //!   ratio but the slow arm with a 3°/s gyro bias (0.04 → 0.05×)
-//!   (BENCHMARKS.md).
+//!   (BENCHMARKS.md). The same share of the turn carries the rest's mean
+//!   specific force, which stands for the stillness's mean attitude, to
+//!   the sample's body before the tilt is pulled to it: pulled to it as it
+//!   was, a slowly turning mount was held behind (the cone 0.58 → 0.27×).
+//!   What is left there is the part of the turn still learnt as bias at
+//!   the start of each stillness, before the regression has decided.
 //! * **Quiet rests follow a drifting bias.** What the bias learnt at rest
 //!   ages while moving over `bias_memory_s` (60 s): a pose held in a hand
 //!   creeps on under the rest thresholds, and its rest's mean rate is creep
