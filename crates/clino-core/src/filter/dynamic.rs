@@ -673,11 +673,10 @@ pub struct Dynamic {
     bias_info_s: f64,
     /// Until a rest has taught the bias (`rested_once`), the still rate
     /// held back from it over the first `vibration_tau_s` of a rest or a
-    /// turn-free stillness: its mean (of `gyr_lp`), the time it covers, s,
-    /// and whether it has been taught.
+    /// turn-free stillness: its mean (of `gyr_lp`) and the time it covers,
+    /// s (taught once that reaches `vibration_tau_s`).
     pending_rate: Vec3,
     pending_s: f64,
-    pending_taught: bool,
     /// The stillness's specific-force noise about its filtered value:
     /// Σ|f − `acc_f`|²/3 and the number of samples, after
     /// [`QUIET_SETTLE_S`] ([`QUIET_NOISE_DENSITY`]).
@@ -2548,7 +2547,6 @@ impl Dynamic {
             bias_info_s: 0.0,
             pending_rate: Vec3::zeros(),
             pending_s: 0.0,
-            pending_taught: false,
             quiet_sum: 0.0,
             quiet_n: 0.0,
             gyr_band: Vec3::zeros(),
@@ -2990,6 +2988,16 @@ impl Dynamic {
         (gyr - self.bias).component_mul(&(Vec3::repeat(1.0) - self.gsl.s - self.motion_scale))
     }
 
+    /// A rest's mean specific force (`acc_mean`) carried from the
+    /// stillness's mean attitude, shifted by the specific-force low-pass's
+    /// delay (its two stages of gain `k_vib2`), to this sample's body, by
+    /// the `share` of that turn the specific force confirms ([`TurnConfirm`]):
+    /// what the rest's pulls act on.
+    fn rest_mean_carried(&self, dt: f64, k_vib2: f64, share: f64) -> Vec3 {
+        let dev = self.still_mean.lagged(cascade_delay(dt, k_vib2, false));
+        turned_over(&self.acc_mean, &(dev * share), 1.0)
+    }
+
     fn bandwidth(&self) -> f64 {
         let p = &self.params;
         let mut bw = p.bandwidth_rad_s * sqrt(1.0 + self.rate_lp * self.inv.scale_rate);
@@ -3219,7 +3227,8 @@ impl AttitudeFilter for Dynamic {
             // (an MPU6050's 0.005 °/s/√Hz leaves 0.007 °/s after 0.5 s), so one
             // short rest suffices; and the reference moves to what was learnt
             self.rest_learnt_s += dt;
-            if self.rest_learnt_s > REST_LEARNT_S && (self.pending_taught || !p.learn_bias) {
+            let taught = self.pending_s >= p.vibration_tau_s;
+            if self.rest_learnt_s > REST_LEARNT_S && (taught || !p.learn_bias) {
                 if !self.rested_once {
                     self.rest_ref = self.bias;
                 }
@@ -3614,8 +3623,7 @@ impl AttitudeFilter for Dynamic {
                 // under the rest threshold was otherwise aligned to where it
                 // had been: the slow cone, seed 1, 0.80° off after 6.5 s of
                 // alignment; carried, with the share over 1, 0.24°)
-                let dev = self.still_mean.lagged(cascade_delay(dt, k_vib2, false));
-                f_pull = Some(turned_over(&self.acc_mean, &(dev * rest_share), 1.0));
+                f_pull = Some(self.rest_mean_carried(dt, k_vib2, rest_share));
             }
             // (before the first rest proper has ended, which aligns at the
             // start-up bandwidth, short rests and held poses get it too)
@@ -3680,8 +3688,7 @@ impl AttitudeFilter for Dynamic {
                     // and residual bias over the window). The cone: 0.58 →
                     // 0.27× VQF's error.
                     if self.rest {
-                        let dev = self.still_mean.lagged(cascade_delay(dt, k_vib2, false));
-                        f_pull = Some(turned_over(&f, &(dev * rest_share), 1.0));
+                        f_pull = Some(self.rest_mean_carried(dt, k_vib2, rest_share));
                     } else {
                         pull_sway = nav_notched;
                     }
@@ -3818,7 +3825,7 @@ impl AttitudeFilter for Dynamic {
             // a warming board taught nothing (0.43 → 0.47×); the first's
             // 0.5 s, a swaying boom's first rest (0.3 s) taught nothing
             // (worst 1.04 → 1.39×; BENCHMARKS.md).
-            if self.pending_taught || self.rested_once {
+            if self.pending_s >= p.vibration_tau_s || self.rested_once {
                 self.bias_info_s = (self.bias_info_s + dt).min(p.rest_bias_tau_s);
                 let w = dt / self.bias_info_s;
                 let target = self.gyr_lp - (self.gyr_lp - rf) * k;
@@ -3832,7 +3839,6 @@ impl AttitudeFilter for Dynamic {
                     let target = self.pending_rate - (self.pending_rate - rf) * k;
                     rest_bias_step(&mut self.bias, sens, &target, w);
                     self.bias_info_s = (self.bias_info_s + n).min(p.rest_bias_tau_s);
-                    self.pending_taught = true;
                     // the attitude over the held time was integrated with the
                     // old bias (0.37°/s in `power_on_in_vibration_is_not_remembered`:
                     // the tilt 0.06° further off as the rest began, 0.01° as it
@@ -3850,7 +3856,6 @@ impl AttitudeFilter for Dynamic {
         } else {
             self.pending_s = 0.0;
             self.pending_rate = Vec3::zeros();
-            self.pending_taught = false;
             // what was learnt at rest ages while moving (bias drifts with time and temperature)
             self.bias_info_s *= 1.0 - self.inv.k_forget;
             self.motion_time += dt;
@@ -4954,6 +4959,38 @@ mod tests {
         }
     }
 
+    /// A sensor still at x tilted 0.2 rad for `still_s` (none: 0), then
+    /// turning about x at `rate` (rad/s) until `secs`, at 100 Hz with the
+    /// gyro's and accelerometer's noise (`seed`); `each` sees every sample's
+    /// time, the filter after it and the truth.
+    fn turn_about_x(
+        f: &mut Dynamic,
+        rate: f64,
+        still_s: f64,
+        secs: f64,
+        seed: u64,
+        mut each: impl FnMut(f64, &Dynamic, &UnitQuaternion<f64>),
+    ) {
+        let dt = 0.01;
+        let mut noise = Noise(seed);
+        for k in 0..(secs / dt) as usize {
+            let t = k as f64 * dt;
+            let turning = still_s <= 0.0 || t > still_s;
+            let w = if turning { rate } else { 0.0 };
+            let q = UnitQuaternion::from_axis_angle(
+                &Vector3::x_axis(),
+                0.2 + rate * (t - still_s).max(0.0),
+            );
+            let acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
+            f.update(
+                Vector3::new(w, 0.0, 0.0) + noise.vec(0.0005),
+                acc + noise.vec(0.02),
+                dt,
+            );
+            each(t, f, &q);
+        }
+    }
+
     #[test]
     fn a_turn_under_the_rest_threshold_is_not_pulled_behind() {
         // A sensor whose gyro bias is known, still for 5 s, then turning
@@ -4969,32 +5006,20 @@ mod tests {
         // 0.4°/s, 0.21° of tilt), which is no longer the pull's doing;
         // with the share allowed over 1 (`TURN_SHARE_MAX`), 0.015°/s and
         // 0.070°.
-        let dt = 0.01;
         for (i, rate_deg) in [0.2, 0.3].into_iter().enumerate() {
             let mut f = Dynamic::default();
             f.set_gyro_bias(Vector3::zeros());
-            let mut noise = Noise(53 + i as u64);
             let rate = f64::to_radians(rate_deg);
             let (mut sq, mut n, mut worst, mut rests) = (0.0, 0.0, 0.0f64, 0usize);
-            for k in 0..(65.0 / dt) as usize {
-                let t = k as f64 * dt;
-                let angle = rate * (t - 5.0).max(0.0);
-                let w = if t > 5.0 { rate } else { 0.0 };
-                let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.2 + angle);
-                let acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
-                f.update(
-                    Vector3::new(w, 0.0, 0.0) + noise.vec(0.0005),
-                    acc + noise.vec(0.02),
-                    dt,
-                );
+            turn_about_x(&mut f, rate, 5.0, 65.0, 53 + i as u64, |t, f, q| {
                 rests += usize::from(f.at_rest() && t > 10.0);
                 if t > 35.0 {
-                    let e = tilt_err(&f.attitude(), &q).to_degrees();
+                    let e = tilt_err(&f.attitude(), q).to_degrees();
                     sq += e * e;
                     n += 1.0;
                     worst = worst.max(e);
                 }
-            }
+            });
             let rms = (sq / n).sqrt();
             let bias = f.gyro_bias().x.to_degrees();
             std::println!(
@@ -5087,23 +5112,12 @@ mod tests {
         // as much. A share of the residual held to 1 kept the bias where it
         // stood (this test on that code: 0.098°/s at the end); the
         // regression's own slope gives the bias back.
-        let dt = 0.01;
-        let rate = 0.3f64.to_radians();
         let mut f = Dynamic::default();
         f.set_gyro_bias(Vector3::new(0.1f64.to_radians(), 0.0, 0.0));
-        let mut noise = Noise(71);
         let mut rests = 0usize;
-        for k in 0..(60.0 / dt) as usize {
-            let t = k as f64 * dt;
-            let q = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.2 + rate * t);
-            let acc = q.inverse_transform_vector(&Vector3::new(0.0, 0.0, G0));
-            f.update(
-                Vector3::new(rate, 0.0, 0.0) + noise.vec(0.0005),
-                acc + noise.vec(0.02),
-                dt,
-            );
+        turn_about_x(&mut f, 0.3f64.to_radians(), 0.0, 60.0, 71, |_, f, _| {
             rests += usize::from(f.at_rest());
-        }
+        });
         let bias = f.gyro_bias().x.to_degrees();
         std::println!("{rests} samples at rest, bias {bias}°/s");
         // the condition: the turn's stillnesses are rests
