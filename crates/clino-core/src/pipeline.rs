@@ -666,10 +666,9 @@ impl Pipeline {
                 (Status::Initialised, _, _) => m.restart(),
                 (Status::Fused, Some(d), Some(dt)) => match d.tilt_correction() {
                     Some(qc) => {
-                        let (w, w_dot) =
-                            rates.unwrap_or((s.gyr_rad_s - d.gyro_bias(), Vec3::zeros()));
+                        let w = rates.map_or(s.gyr_rad_s - d.gyro_bias(), |(w, _)| w);
                         m.set_sway_hz(d.sway_hz());
-                        m.observe(&d.sampled_attitude(), &qc, &s.acc_m_s2, &w, &w_dot, dt);
+                        m.observe(&d.sampled_attitude(), &qc, &s.acc_m_s2, &w, dt);
                     }
                     // a filter put in through `filter_mut` without the
                     // tracking: its gyro-only reference starts here, as at
@@ -679,7 +678,7 @@ impl Pipeline {
                         m.restart();
                     }
                 },
-                _ => {}
+                _ => m.skip(),
             }
             if m.blocks() != self.mount_blocks {
                 new_estimate = true;
