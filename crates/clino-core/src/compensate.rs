@@ -551,7 +551,8 @@ type M39 = nalgebra::SMatrix<f64, 3, 9>;
 /// one in the gain. Each sample enters with its two neighbours: z and R̂₀
 /// as their Simpson mean, and for the arm R̂₀·(ω̇× + ω×ω×) = R̈₀ integrated
 /// between the neighbours, which is the change of Ṙ₀ = R̂₀·ω× between them:
-/// the rate is never differentiated ([`Block::add`]).
+/// the rate is never differentiated (`Block::add`, private, has the
+/// figures).
 ///
 /// # Observability
 ///
@@ -600,13 +601,14 @@ pub struct MountEstimator {
     before: Option<(Observed, f64)>,
 }
 
-/// One observed sample of [`MountEstimator`]: z = R̂₀·f − g·e_U, R̂₀, and
-/// R̂₀·ω× (a point at r moves at R̂₀·ω×·r).
+/// One observed sample of [`MountEstimator`]: z = R̂₀·f − g·e_U, R̂₀,
+/// R̂₀·ω× (a point at r moves at R̂₀·ω×·r) and |ω|.
 #[derive(Clone, Copy, Debug)]
 struct Observed {
     z: Vec3,
     r: nalgebra::Matrix3<f64>,
     rv: nalgebra::Matrix3<f64>,
+    wn: f64,
 }
 
 /// The weighted sums of one block of [`MountEstimator`]: the model's
@@ -890,7 +892,7 @@ impl MountEstimator {
     }
 
     /// A sample not observed (the filter did not fuse it): the samples after
-    /// it are not taken as neighbours of those before it ([`Block::add`]).
+    /// it are not taken as neighbours of those before it.
     pub fn skip(&mut self) {
         (self.last, self.before) = (None, None);
     }
@@ -900,8 +902,8 @@ impl MountEstimator {
     /// the accelerometer reading `f` before any compensation (m/s²), the rate
     /// `w` (the gyro's less its bias), and `dt` since the sample before. The
     /// blocks take the sample before this one with its two neighbours, the
-    /// arm's terms from the change of R̂₀·ω× between them ([`Block::add`]): no
-    /// derivative of the rate is needed.
+    /// arm's terms from the change of R̂₀·ω× between them (see the type's
+    /// model): no derivative of the rate is needed.
     pub fn observe(&mut self, q: &Attitude, corr: &Attitude, f: &Vec3, w: &Vec3, dt: f64) {
         if !(dt.is_finite() && dt > 0.0) {
             (self.last, self.before) = (None, None);
@@ -918,6 +920,7 @@ impl MountEstimator {
             z,
             r,
             rv: r * w.cross_matrix(),
+            wn: w.norm(),
         };
         let (last, before) = (self.last.replace(now), self.before);
         self.before = last.map(|l| (l, dt));
@@ -929,7 +932,7 @@ impl MountEstimator {
         let z = (first.z + mid.z * 4.0 + now.z) / 6.0;
         let r = (first.r + mid.r * 4.0 + now.r) / 6.0;
         let dv = (now.rv - first.rv) * 0.5;
-        let (dt, wn) = (0.5 * (dt0 + dt), w.norm());
+        let (dt, wn) = (0.5 * (dt0 + dt), mid.wn);
         if self.acc.iter().all(|b| b.len == 0.0) {
             self.acc[0] = self.new_block();
         }
@@ -1289,15 +1292,6 @@ mod tests {
                         * 0.5;
                     let r = (rot(t0) + rot(t) * 4.0 + rot(t1)) / 6.0;
                     b.add(&Vec3::zeros(), &r, &dv, w.norm(), dt);
-                }
-                // ∫ W(τ)·R̈(τ + dt/2) dτ over the block (its first sample's
-                // share starts dt/2 before it)
-                let m = 20_000;
-                let step = len / m as f64;
-                let mut want = nalgebra::Matrix3::zeros();
-                for j in 0..m {
-                    let tau = (j as f64 + 0.5) * step;
-                    want += r_dd(tau + 0.5 * dt) * (b.triangle(tau) * step);
                 }
                 let scale = sampled.norm();
                 let err = (b.srh - sampled).norm();
