@@ -912,14 +912,16 @@ impl MountEstimator {
         let r = (corr.inverse() * q).to_rotation_matrix().into_inner();
         let g = self.opts.gravity_m_s2;
         let z = r * f - Vec3::new(0.0, 0.0, g);
-        if !(z.iter().all(|v| v.is_finite()) && w.iter().all(|v| v.is_finite())) {
+        let rv = r * w.cross_matrix();
+        // (a rate near f64::MAX is finite, its norm and R̂₀·ω× need not be)
+        if !(z.iter().chain(rv.iter()).all(|v| v.is_finite()) && w.norm().is_finite()) {
             (self.last, self.before) = (None, None);
             return;
         }
         let now = Observed {
             z,
             r,
-            rv: r * w.cross_matrix(),
+            rv,
             wn: w.norm(),
         };
         let (last, before) = (self.last.replace(now), self.before);
@@ -1343,6 +1345,18 @@ mod tests {
         };
         assert_eq!(run(true), 0.0);
         assert!(run(false) > 0.05, "{}", run(false));
+        // a sample that is no sample (NaN, or a rate whose R̂₀·ω× overflows)
+        // breaks the chain as a skipped one does, and leaves the sums finite
+        for bad in [Vec3::repeat(f64::NAN), Vec3::new(1e308, 1e308, 1e308)] {
+            let mut e = MountEstimator::new(MountOptions::default());
+            for k in 0..7 {
+                let w = if k == 3 { bad } else { Vec3::zeros() };
+                e.observe(&q, &q, &f, &w, 0.01);
+            }
+            for b in &e.acc {
+                assert!(b.srh.iter().chain(b.sz.iter()).all(|v| *v == 0.0), "{bad}");
+            }
+        }
     }
 
     /// A block's triangle passes a sine at f by sinc²(f·T/2) (T its length,
